@@ -1,0 +1,35 @@
+#include "bind_network.hpp"
+#include "hexagon.hpp"
+
+namespace py = pybind11;
+using namespace pyfrustrate;
+
+void export_hexagon(py::module_& m) {
+    py::class_<HexagonModel>(m, "HexagonModel",
+                             "Hexagonal particle (main text Fig. 2a): yellow/red triangles of springs k with rest "
+                             "sides 1 +- eps, six connecting springs kc, areal stiffness k_area on each triangle.")
+        .def(py::init<double, double, double, double>(), py::arg("k"), py::arg("kc"), py::arg("k_area"), py::arg("eps"))
+        .def_readonly("k", &HexagonModel::k)
+        .def_readonly("kc", &HexagonModel::kc)
+        .def_readonly("k_area", &HexagonModel::k_area)
+        .def_readonly("eps", &HexagonModel::eps)
+        .def(
+            "evaluate",
+            [](const HexagonModel& model, const HexagonModel::Corners& corners) {
+                HexagonModel::Corners g = HexagonModel::Corners::Zero();
+                HexagonModel::Hessian h = HexagonModel::Hessian::Zero();
+                const auto terms = model.terms(corners, &g, &h);
+                py::dict d;
+                d["triangles"] = terms.triangles;
+                d["connecting"] = terms.connecting;
+                d["area"] = terms.area;
+                d["energy"] = terms.total();
+                d["gradient"] = g;
+                d["hessian"] = h;
+                return d;
+            },
+            py::arg("corners"),
+            "Energy terms, gradient (12,) and Hessian (12, 12) of one particle from its corners "
+            "(x0, y0, ..., x5, y5), slots at 30, 90, ..., 330 degrees, even slots red.");
+    export_network_functions<HexagonModel>(m);
+}

@@ -1,0 +1,30 @@
+// Conversion of minimiser results and options for the bindings.
+#pragma once
+
+#include "minimize.hpp"
+
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+
+namespace pyfrustrate {
+
+inline pybind11::dict to_dict(const MinimizeResult& r) {
+    pybind11::dict d;
+    d["x"] = r.x;
+    d["energy"] = r.energy;
+    d["converged"] = r.converged;
+    d["iterations"] = r.iterations;
+    d["gradient_norm"] = r.gradient_norm;
+    d["status"] = r.status;
+    return d;
+}
+
+inline MinimizeOptions make_options(double tol, int max_iter, int memory) {
+    MinimizeOptions o;
+    o.gradient_tolerance = tol;
+    o.max_iterations = max_iter;
+    o.memory = memory;
+    return o;
+}
+
+}  // namespace pyfrustrate

@@ -1,0 +1,70 @@
+#include "topology.hpp"
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+namespace py = pybind11;
+using namespace pyfrustrate;
+
+void export_topology(py::module_& m) {
+    py::class_<Topology>(m, "Topology",
+                         "Corner graph of a set of occupied sites of the triangular particle lattice "
+                         "(finite, fibre-periodic or bulk-periodic).")
+        .def(py::init([](py::array_t<int, py::array::c_style | py::array::forcecast> sites, int periodicity,
+                         const std::array<LatticeVector, 2>& periods, bool curved) {
+                 if (sites.ndim() != 2 || sites.shape(1) != 2)
+                     throw std::invalid_argument("sites must be an integer array of shape (n, 2)");
+                 if (periodicity < 0 || periodicity > 2)
+                     throw std::invalid_argument("periodicity must be 0 (none), 1 (fibre) or 2 (bulk)");
+                 std::vector<LatticeVector> s(sites.shape(0));
+                 auto r = sites.unchecked<2>();
+                 for (py::ssize_t i = 0; i < sites.shape(0); ++i) s[i] = {r(i, 0), r(i, 1)};
+                 return make_topology(s, static_cast<Periodicity>(periodicity), periods, curved);
+             }),
+             py::arg("sites"), py::arg("periodicity"), py::arg("periods"), py::arg("curved"))
+        .def_property_readonly("periodicity", [](const Topology& t) { return static_cast<int>(t.periodicity); })
+        .def_readonly("curved", &Topology::curved)
+        .def_readonly("periods", &Topology::periods)
+        .def_property_readonly("n_particles", &Topology::n_particles)
+        .def_property_readonly("n_corners", &Topology::n_corners)
+        .def_property_readonly("n_period_parameters", &Topology::n_period_parameters)
+        .def_readonly("n_bonds", &Topology::n_bonds)
+        .def_property_readonly("sites",
+                               [](const Topology& t) {
+                                   py::array_t<int> a({t.n_particles(), 2});
+                                   auto w = a.mutable_unchecked<2>();
+                                   for (int p = 0; p < t.n_particles(); ++p) w(p, 0) = t.sites[p][0], w(p, 1) = t.sites[p][1];
+                                   return a;
+                               })
+        .def_property_readonly("corners",
+                               [](const Topology& t) {
+                                   py::array_t<int> a({t.n_particles(), kCorners});
+                                   auto w = a.mutable_unchecked<2>();
+                                   for (int p = 0; p < t.n_particles(); ++p)
+                                       for (int s = 0; s < kCorners; ++s) w(p, s) = t.corner[p][s];
+                                   return a;
+                               },
+                               "(n_particles, 6) corner index of each slot (30, 90, ..., 330 degrees)")
+        .def_property_readonly("images",
+                               [](const Topology& t) {
+                                   py::array_t<int> a({t.n_particles(), kCorners, 2});
+                                   auto w = a.mutable_unchecked<3>();
+                                   for (int p = 0; p < t.n_particles(); ++p)
+                                       for (int s = 0; s < kCorners; ++s)
+                                           w(p, s, 0) = t.image[p][s][0], w(p, s, 1) = t.image[p][s][1];
+                                   return a;
+                               },
+                               "(n_particles, 6, 2) period image of each slot")
+        .def_property_readonly("reference",
+                               [](const Topology& t) {
+                                   Eigen::MatrixXd r(t.n_corners(), 2);
+                                   for (int c = 0; c < t.n_corners(); ++c) r.row(c) = t.reference[c].transpose();
+                                   return r;
+                               },
+                               "(n_corners, 2) bulk-reference positions")
+        .def_readonly("corner_color", &Topology::corner_color)
+        .def("reference_state", &Topology::reference_state,
+             "Flat reference state: corners (x0, y0, x1, ...) then period-map parameters.");
+}

@@ -1,0 +1,39 @@
+// L-BFGS minimisation through NLopt, and the result record shared by every minimiser.
+// The minimiser owns nothing of the system: it sees an objective (energy and gradient of a
+// flat vector) and hands back a result value (x, energy, status, counters).
+#pragma once
+
+#include <Eigen/Dense>
+#include <functional>
+#include <string>
+
+namespace pyfrustrate {
+
+using Vector = Eigen::VectorXd;
+
+// Energy of x; writes the gradient into `gradient` (same size as x).
+using Objective = std::function<double(const Vector& x, Vector& gradient)>;
+
+struct MinimizeOptions {
+    double gradient_tolerance = 1e-9;  // converged when max |dE/dx_i| <= this
+    int max_iterations = 100000;       // cap on energy+gradient evaluations
+    int memory = 10;                   // L-BFGS history length
+    int restarts = 5;                  // fresh L-BFGS runs after a roundoff-limited stop
+};
+
+struct MinimizeResult {
+    Vector x;
+    double energy = 0.0;
+    bool converged = false;
+    int iterations = 0;       // energy+gradient evaluations
+    double gradient_norm = 0; // max |dE/dx_i| at x
+    std::string status;       // NLopt's last status, or "linear solve"
+};
+
+// NLopt's LD_LBFGS from x0; stops as soon as the gradient tolerance is met (NLopt itself has
+// no gradient criterion, so the objective forces the stop), records NLopt's status instead of
+// throwing on "roundoff limited", and restarts from the best point when it stops early.
+MinimizeResult minimize_lbfgs(const Objective& objective, const Vector& x0,
+                              const MinimizeOptions& options);
+
+}  // namespace pyfrustrate

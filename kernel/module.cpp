@@ -1,0 +1,15 @@
+// The compiled kernel of pyfrustrate. Each piece exports itself; this file only calls them.
+#include <pybind11/pybind11.h>
+
+namespace py = pybind11;
+
+void export_chain(py::module_& m);
+void export_topology(py::module_& m);
+void export_hexagon(py::module_& m);
+
+PYBIND11_MODULE(_kernel, m) {
+    m.doc() = "pyfrustrate's C++ kernel (Eigen + NLopt): energies, gradients, L-BFGS and linear solves";
+    export_chain(m);
+    export_topology(m);
+    export_hexagon(m);
+}

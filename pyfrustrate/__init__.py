@@ -1,0 +1,15 @@
+"""pyfrustrate: self-assembly of ill-fitting, deformable particles.
+
+Reproduces H. Le Roy, M. M. Terzi and M. Lenz, "Collective deformation modes promote fibrous
+self-assembly in deformable particles", Phys. Rev. X 15, 011022 (2025).
+
+Main entry points: ``Hexagon`` (the particle), ``topology`` (aggregates), ``relax`` (minimum
+deformation energy at fixed topology), ``continuum`` (the analytic theory), ``chain`` (the 1D
+toy model).
+"""
+from . import chain, continuum, topology
+from .particles import Hexagon
+from .relax import ConvergenceWarning, Relaxation, relax
+
+__version__ = "0.1.0"
+__all__ = ["chain", "continuum", "topology", "Hexagon", "relax", "Relaxation", "ConvergenceWarning"]

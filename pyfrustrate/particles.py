@@ -1,0 +1,75 @@
+"""Particle models: the parameters of one particle, handed to the kernel's stateless evaluators.
+
+``Hexagon`` is the particle of the paper (main text Fig. 2a). Its continuum counterpart is
+given by the mapping of supplement S1 (``continuum.mapping``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _kernel, continuum
+
+
+@dataclass(frozen=True)
+class Hexagon:
+    """Hexagonal ill-fitting particle.
+
+    Parameters
+    ----------
+    k : float
+        Stiffness of the yellow and red triangle springs (rest lengths ``1 + eps``, ``1 - eps``).
+    kc : float
+        Stiffness of each of the six connecting springs (the hexagon's sides).
+    k_area : float
+        Areal stiffness of each triangle, energy ``k_area (A - A0)^2 / (2 A0)``. May be negative
+        down to ``-sqrt(3) k`` (exclusive): Poisson ratios below 1/3 need it (NOTES.md).
+    eps : float
+        Mismatch, in (0, 1).
+
+    Invalid values raise ``ValueError`` naming the parameter.
+    """
+
+    k: float = 1.0
+    kc: float = 0.01
+    k_area: float = 0.0
+    eps: float = 0.01
+    _kernel_model: object = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        if not (0 < self.eps < 1):
+            raise ValueError(f"eps must lie in (0, 1), got {self.eps!r}")
+        object.__setattr__(self, "_kernel_model",
+                           _kernel.HexagonModel(float(self.k), float(self.kc), float(self.k_area), float(self.eps)))
+
+    @classmethod
+    def from_continuum(cls, ell: float, nu: float, eps: float = 0.01, k: float = 1.0) -> "Hexagon":
+        """The particle whose continuum limit has boundary-layer length ``ell`` and Poisson ratio
+        ``nu`` (inverse of supplement S1): ``kc = k / (8 (1 - nu) ell^2)``,
+        ``k_area = sqrt(3) k (3 nu - 1) / (2 (1 - nu))``. ``nu = 1`` is singular (``k_area``
+        infinite): use ``nu < 1``."""
+        if not np.isfinite(ell) or ell <= 0:
+            raise ValueError(f"ell must be positive and finite, got {ell!r}")
+        if not (0 <= nu < 1):
+            raise ValueError(f"nu must lie in [0, 1) for a discrete particle, got {nu!r}")
+        p = continuum.particle_parameters(ell, nu, 0.0, k=k, eps=eps)
+        return cls(k=k, kc=float(p.kc), k_area=float(p.k_area), eps=eps)
+
+    @property
+    def continuum(self):
+        """Continuum parameters (``mu, nu, lam, kappa_c, ell, e_bulk``; supplement S1) at g = 0."""
+        return continuum.mapping(self.k, self.kc, self.k_area, 0.0, self.eps)
+
+    @property
+    def bulk_energy_per_particle(self) -> float:
+        """Leading-order bulk deformation energy per particle, ``(3 k + sqrt(3) k_area) eps^2``
+        (= e_bulk * sqrt(3)/2, main text Eq. 8)."""
+        return (3 * self.k + np.sqrt(3) * self.k_area) * self.eps ** 2
+
+    def evaluate(self, corners) -> dict:
+        """Energy terms (``triangles, connecting, area, energy``), gradient (12,) and Hessian
+        (12, 12) of one particle from its corners, shape (6, 2) or (12,), slots counter-clockwise
+        from 30 degrees (even slots red, odd yellow)."""
+        c = np.asarray(corners, dtype=float).reshape(12)
+        return self._kernel_model.evaluate(c)
