@@ -75,3 +75,57 @@ def energy(n: int, k: float, kc: float, eps: float, x_up, x_down) -> tuple[float
     """Energy of Eq. (1) and its gradient with respect to ``(x_up, x_down)``, shape (2 (n + 1),)."""
     x = np.concatenate([np.asarray(x_up, float), np.asarray(x_down, float)])
     return _kernel.chain_energy(int(n), float(k), float(kc), float(eps), x)
+
+
+def analytic_shift(n: int, k: float, kc: float, eps: float) -> np.ndarray:
+    """Exact relaxed shift ``delta_i``, i = 0..n, of a chain of ``n`` particles.
+
+    Eq. (1) is quadratic, so force balance inside the chain,
+    ``k (delta_{i+1} - 2 delta_i + delta_{i-1}) = 2 kc delta_i``, holds exactly and gives
+    ``delta_i = -A sinh((n/2 - i)/ell)`` with ``ell = continuum.chain_ell(kc/k)`` (Eq. 3). The
+    free edge (difference of the force balances of its top and bottom corners) fixes
+    ``A = (2k + kc) eps / (k [sinh(s) - sinh(s - 1/ell)] + kc sinh(s))``, ``s = n / (2 ell)``.
+    """
+    from .continuum import chain_ell
+
+    ell = float(chain_ell(kc / k))
+    i = np.arange(n + 1)
+    if not np.isfinite(ell):  # kc = 0: no coupling, each face relaxes on its own (linear shift)
+        return 2 * eps * (i - n / 2)
+    s, h = n / (2 * ell), 1 / ell
+    # sinh(a) / sinh(s) in overflow-free form, so long chains (n >> ell) stay finite.
+    def sinh_ratio(a):
+        return np.exp(a - s) * (1 - np.exp(-2 * a)) / (1 - np.exp(-2 * s)) if s > 0 else 0.0
+
+    edge_shift = (2 * k + kc) * eps / (k * (1 - sinh_ratio(s - h)) + kc)  # -delta_0 = A sinh(s)
+    x = (n / 2 - i) / ell
+    return -edge_shift * np.sign(x) * sinh_ratio(np.abs(x))
+
+
+def fit_decay_length(shift: np.ndarray, window: tuple[float, float] = (0.05, 0.45)) -> float:
+    """Decay length of a relaxed shift profile, by a least-squares fit of
+    ``delta_i = -A sinh((n/2 - i)/ell)`` to the profile (``window``: fractions of the chain
+    kept, measured from the left edge; the default keeps the half-chain away from its edge)."""
+    from scipy.optimize import curve_fit
+
+    shift = np.asarray(shift, float)
+    n = shift.size - 1
+    i = np.arange(n + 1)
+    keep = (i >= window[0] * n) & (i <= window[1] * n)
+    x = (n / 2 - i[keep]) / n  # in units of the chain length, to keep the fit well scaled
+
+    def model(x, log_amp, inv_ell):
+        return -np.exp(log_amp) * np.sinh(x * inv_ell)
+
+    # Starting guess: the q = n/ell for which sinh(x q) matches the ratio of the window's ends.
+    from scipy.optimize import brentq
+
+    def log_sinh(z):
+        return z + np.log1p(-np.exp(-2 * z)) - np.log(2)
+
+    ratio = shift[keep][-1] / shift[keep][0]
+    target = lambda q: log_sinh(x[-1] * q) - log_sinh(x[0] * q) - np.log(ratio)  # noqa: E731
+    q0 = brentq(target, 1e-6, 600 / x[0]) if target(1e-6) * target(600 / x[0]) < 0 else 2.0
+    amp0 = np.log(abs(shift[keep][0]) / np.sinh(x[0] * q0))
+    (log_amp, q), _ = curve_fit(model, x, shift[keep], p0=(amp0, q0), maxfev=20000)
+    return n / q

@@ -141,3 +141,31 @@ def particle_corners(particle, topology: Topology, state) -> np.ndarray:
     """Corner positions seen by each particle (periodic images applied), shape (n_particles, 6, 2)."""
     c = _kernel.particle_corners(particle._kernel_model, topology.kernel, np.asarray(state, dtype=float))
     return np.asarray(c).reshape(topology.n_particles, -1, 2)
+
+
+def periodic_images(topology: Topology, state, corners, images=range(-1, 2)) -> np.ndarray:
+    """Corners of several periods of a periodic cell, for drawing.
+
+    ``corners``: (n_particles, m, 2) corners of the cell (``particle_corners``); ``images``:
+    the period indices to generate (fibre) — a bulk cell is repeated over ``images x images``.
+    Returns (n_images * n_particles, m, 2). A finite topology is returned unchanged.
+    """
+    state = np.asarray(state, float)
+    period = state[2 * topology.n_corners:]
+    corners = np.asarray(corners, float)
+    if topology.periodicity == "none":
+        return corners
+    if topology.periodicity == "bulk":
+        t1, t2 = period[:2], period[2:4]
+        return np.concatenate([corners + a * t1 + b * t2 for a in images for b in images])
+    shift, angle = period[:2], (period[2] if topology.curved else 0.0)
+    c, s = np.cos(angle), np.sin(angle)
+    rotation = np.array([[c, -s], [s, c]])
+    out = []
+    for n in images:
+        pts = corners.copy()
+        step = (lambda p: p @ rotation.T + shift) if n >= 0 else (lambda p: (p - shift) @ rotation)
+        for _ in range(abs(n)):
+            pts = step(pts)
+        out.append(pts)
+    return np.concatenate(out)

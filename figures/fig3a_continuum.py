@@ -1,0 +1,62 @@
+"""Fig. 3a: continuum phase diagram in the (Gamma, nu) plane. Regions: disk (red), fibre (blue),
+bulk (purple); shading and contours give the optimal fibre width W*/ell and disk radius R*/ell.
+Fibre widths diverge at the fibre-bulk boundary Gamma = 1; the disk radius jumps at the
+disk-bulk boundary; the three phases meet at (Gamma, nu) = (1, 1/2)."""
+import numpy as np
+from matplotlib.colors import LinearSegmentedColormap, LogNorm
+
+from pyfrustrate import plotting
+from pyfrustrate.io import load_npz, logging_to
+
+
+def shaded(color):
+    return LinearSegmentedColormap.from_list("shade", ["#ffffff", color])
+
+
+def main(data_path, outputs):
+    d = load_npz(data_path)
+    nu, G, phase = d["nu"], d["Gamma"], d["phase"]
+    fig = plotting.figure(12.0, 9.0)
+    ax = fig.add_axes([0.1, 0.12, 0.62, 0.8])
+    extent = (G[0], G[-1], nu[0], nu[-1])
+    norm = LogNorm(0.3, 30)
+    images = {}
+    for name, size in (("fiber", d["width"]), ("disk", d["radius"])):
+        field = np.where(phase == name, np.clip(size, norm.vmin, norm.vmax), np.nan)
+        images[name] = ax.imshow(field, origin="lower", extent=extent, aspect="auto", norm=norm,
+                                 cmap=shaded(plotting.PHASE_COLORS[name]), interpolation="nearest")
+    bulk = np.where(phase == "bulk", 1.0, np.nan)
+    ax.imshow(bulk, origin="lower", extent=extent, aspect="auto", cmap=shaded(plotting.PHASE_COLORS["bulk"]),
+              vmin=0, vmax=1.6, interpolation="nearest")
+
+    levels = [0.5, 1, 2, 4, 8]
+    for name, size, color in (("fiber", d["width"], "#003f4a"), ("disk", d["radius"], "#6b0016")):
+        field = np.where(phase == name, size, np.nan)
+        cs = ax.contour(G, nu, field, levels=levels, colors=color, linewidths=0.5)
+        ax.clabel(cs, fontsize=6, fmt="%g")
+
+    line_nu = d["line_nu"]
+    ax.plot(d["fiber_bulk"], line_nu, "k-", lw=1.0)
+    ax.plot(d["disk_bulk"], line_nu, "k-", lw=1.0)
+    ax.plot(d["disk_fiber"], line_nu, "k-", lw=1.0)
+    ax.plot(d["disk_fiber_upper"], line_nu, "k-", lw=1.0)
+    ax.plot([1.0], [0.5], "o", ms=4, mfc="w", mec="k", zorder=5)
+    ax.annotate(r"triple point $(1, \frac{1}{2})$", (1.0, 0.5), xytext=(1.08, 0.38), fontsize=7,
+                arrowprops=dict(arrowstyle="-", lw=0.5))
+    for text, xy, color in (("fiber", (0.35, 0.85), "k"), ("disk", (0.35, 0.15), "k"), ("bulk", (1.3, 0.6), "w")):
+        ax.text(*xy, text, color=color, fontsize=10, ha="center", fontweight="bold")
+    ax.set_xlim(G[0], G[-1])
+    ax.set_ylim(0, 1)
+    ax.set_xlabel(r"line tension $\Gamma$")
+    ax.set_ylabel(r"Poisson ratio $\nu$")
+    ax.spines[["top", "right"]].set_visible(True)
+
+    for i, (name, label) in enumerate((("fiber", r"$W^*/\ell$"), ("disk", r"$R^*/\ell$"))):
+        cax = fig.add_axes([0.78 + 0.1 * i, 0.12, 0.025, 0.8])
+        fig.colorbar(images[name], cax=cax, label=label)
+    plotting.save(fig, outputs)
+
+
+if "snakemake" in globals():
+    with logging_to(snakemake.log[0]):  # noqa: F821
+        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png])  # noqa: F821

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Set-up shared by the figures and test commands: Debian build dependencies when missing, a
+# virtual environment in .venv, and the package (C++ kernel included) installed into it.
+# Re-running is cheap: the package is rebuilt only when its sources change.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+VENV="${PYFRUSTRATE_VENV:-$ROOT/.venv}"
+DEBIAN_PACKAGES=(g++ libeigen3-dev libnlopt-cxx-dev python3-venv)
+
+missing=()
+for pkg in "${DEBIAN_PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
+done
+if ((${#missing[@]})); then
+  echo "[setup] installing Debian packages: ${missing[*]}"
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+
+if [ ! -x "$VENV/bin/python" ]; then
+  echo "[setup] creating virtual environment $VENV"
+  python3 -m venv "$VENV"
+fi
+
+# Rebuild only when a source file of the package changed since the last install.
+stamp="$VENV/.pyfrustrate-source-hash"
+hash=$(cd "$ROOT" && cat pyproject.toml CMakeLists.txt kernel/* pyfrustrate/*.py | sha256sum | cut -d' ' -f1)
+if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$hash" ]; then
+  echo "[setup] building and installing pyfrustrate (C++ kernel) into $VENV"
+  "$VENV/bin/python" -m pip install -q --upgrade pip
+  "$VENV/bin/python" -m pip install -q "$ROOT[test,workflow]"
+  echo "$hash" > "$stamp"
+fi

@@ -1,0 +1,21 @@
+rule chain_profiles:
+    output:
+        "results/chain/profiles.npz",
+    params:
+        settings=config["chain"],
+    log:
+        "results/logs/chain_profiles.log",
+    script:
+        "../scripts/chain_profiles.py"
+
+
+rule fig1_chain:
+    input:
+        rules.chain_profiles.output,
+    output:
+        pdf=f"{FIGURES}/fig1_chain.pdf",
+        png=f"{FIGURES}/fig1_chain.png",
+    log:
+        "results/logs/fig1_chain.log",
+    script:
+        "../../figures/fig1_chain.py"
