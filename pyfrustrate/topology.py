@@ -170,10 +170,12 @@ def bulk() -> Topology:
 
 # Hole patterns: (periods, occupied sites of the cell). 'honeycomb' removes one site in three
 # (a sqrt(3) x sqrt(3) superlattice): no three particles share a corner, so every particle can
-# keep its rest shape (zero deformation energy). 'kagome' removes one site in four.
+# keep its rest shape (zero deformation energy). 'kagome' removes one site in four, 'sqrt7'
+# one in seven (isolated vacancies): more bonds, but particles must deform.
 HOLE_PATTERNS = {
     "honeycomb": ([(1, 1), (-1, 2)], [(1, 0), (0, 1)]),
     "kagome": ([(2, 0), (0, 2)], [(1, 0), (0, 1), (1, 1)]),
+    "sqrt7": ([(2, 1), (-1, 3)], [(1, 0), (0, 1), (-1, 1), (-1, 0), (0, -1), (1, -1)]),
 }
 
 

@@ -1,0 +1,137 @@
+"""Comparison of pre-made aggregate structures (main text "Comparison of pre-made discrete
+aggregate structures", Figs. 3b, 4 and S1).
+
+For one particle, every candidate topology of the catalogue (Fig. 4a) is relaxed once; its
+deformation energy per particle and bonds per particle are all that the diagrams need, since the
+total energy per particle, ``e_def - g * bonds / N`` (each bound pair of sides gives ``-g``), is
+linear in the binding energy ``g``. For each line tension the lowest total energy wins.
+
+Line tension convention (settled by measuring the discrete edge energy, see
+``edge_line_tension``): ``gamma = g``, the binding cost per unit length of an edge along a lattice
+vector (2 bonds broken per unit length, shared by two edges); ``Gamma`` then follows from
+``continuum.mapping``.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import continuum, topology
+from .relax import relax
+
+#: Aggregate kind of each candidate family, for the diagrams' colour code.
+FAMILY_PHASE = {
+    "single": "disk", "disk": "disk", "fiber_cut0": "fiber", "fiber_cut1": "fiber", "fiber_cut2": "fiber",
+    "fiber_cut0_straight": "fiber", "bulk": "bulk", "holes_honeycomb": "bulk_with_holes",
+    "holes_kagome": "bulk_with_holes", "holes_sqrt7": "bulk_with_holes",
+}
+PHASES = ("bulk_with_holes", "disk", "fiber", "bulk")
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One pre-made aggregate: its family (``FAMILY_PHASE``), integer size (disk radius R or fibre
+    width in lattice lines; 0 otherwise) and topology."""
+
+    family: str
+    size: int
+    topology: topology.Topology
+
+
+def catalogue(max_radius: int = 25, max_width: int = 35, cuts=(0, 1, 2), straight_fibers: bool = False,
+              hole_patterns=("honeycomb", "kagome", "sqrt7")) -> list[Candidate]:
+    """The candidates of Fig. 4a: the single particle (a disk of one), hexagonal disks
+    ``R = 1..max_radius``, fibres of widths ``1..max_width`` for each cut (curved where they
+    bend), optionally the straight cut-0 fibres, the bulk and bulks with holes."""
+    out = [Candidate("single", 0, topology.disk(0))]
+    out += [Candidate("disk", R, topology.disk(R)) for R in range(1, max_radius + 1)]
+    for cut in cuts:
+        out += [Candidate(f"fiber_cut{cut}", w, topology.fiber(w, cut)) for w in range(1, max_width + 1)]
+    if straight_fibers:
+        out += [Candidate("fiber_cut0_straight", w, topology.fiber(w, 0, curved=False)) for w in range(1, max_width + 1)]
+    out.append(Candidate("bulk", 0, topology.bulk()))
+    out += [Candidate(f"holes_{p}", 0, topology.bulk_with_holes(p)) for p in hole_patterns]
+    return out
+
+
+@dataclass(frozen=True)
+class CatalogueEnergies:
+    """Relaxed energies of a catalogue for one particle (arrays of length n_candidates).
+
+    ``deformation``: deformation energy per particle; ``bonds``: bound pairs of sides per
+    particle; ``length``: continuum size (``W`` or ``R`` in lattice units, inf for bulks);
+    ``converged``, ``iterations``, ``seconds``: the minimiser's report per candidate.
+    """
+
+    family: np.ndarray
+    size: np.ndarray
+    length: np.ndarray
+    n_particles: np.ndarray
+    deformation: np.ndarray
+    bonds: np.ndarray
+    converged: np.ndarray
+    iterations: np.ndarray
+    seconds: np.ndarray
+
+    def as_arrays(self) -> dict:
+        return {name: getattr(self, name) for name in self.__dataclass_fields__}
+
+    @classmethod
+    def from_arrays(cls, arrays: dict) -> "CatalogueEnergies":
+        return cls(**{name: np.asarray(arrays[name]) for name in cls.__dataclass_fields__})
+
+    def total(self, g) -> np.ndarray:
+        """Total energy per particle, shape (n_candidates, *shape(g))."""
+        g = np.asarray(g, float)
+        return self.deformation.reshape((-1,) + (1,) * g.ndim) - np.multiply.outer(self.bonds, g)
+
+    def winners(self, g, families=None) -> np.ndarray:
+        """Index of the lowest total energy per particle at each binding energy ``g`` (ties go to
+        the earlier candidate), optionally among the given families only."""
+        total = self.total(g)
+        if families is not None:
+            allowed = np.isin(self.family, list(families))
+            if not allowed.any():
+                raise ValueError(f"families: none of {families} is in the catalogue")
+            total = np.where(allowed.reshape((-1,) + (1,) * np.ndim(g)), total, np.inf)
+        return np.argmin(total, axis=0)
+
+
+def relax_catalogue(particle, candidates, method: str = "lbfgs", tol: float = 1e-5, progress: bool = False,
+                    description: str = "catalogue") -> CatalogueEnergies:
+    """Relax every candidate once. ``method='lbfgs'`` starts from the linear solution (fast and
+    exact to the tolerance); ``'linear'`` keeps the linear solution (error O(eps^2) relative)."""
+    rows = []
+    iterator = candidates
+    if progress:
+        from tqdm.auto import tqdm
+
+        iterator = tqdm(candidates, desc=description, unit="aggregate", mininterval=1.0)
+    for c in iterator:
+        start = time.perf_counter()
+        kwargs = {"x0": "linear"} if method == "lbfgs" else {}
+        r = relax(particle, c.topology, method=method, tol=tol, **kwargs)
+        rows.append((c.family, c.size, c.topology.size, r.n_particles, r.energy_per_particle,
+                     r.n_bonds / r.n_particles, r.converged, r.iterations, time.perf_counter() - start))
+    cols = list(zip(*rows))
+    return CatalogueEnergies(np.array(cols[0]), np.array(cols[1]), np.array(cols[2], float), np.array(cols[3]),
+                             np.array(cols[4], float), np.array(cols[5], float), np.array(cols[6], bool),
+                             np.array(cols[7]), np.array(cols[8], float))
+
+
+def binding_energy_of(particle, ell: float, nu: float, Gamma) -> np.ndarray:
+    """Binding energy ``g`` per bound pair of sides for line tension ``Gamma`` (supplement S1 and
+    the ``gamma = g`` convention), at the particle's own ``(ell, nu, eps, k)``."""
+    return np.asarray(continuum.particle_parameters(ell, nu, Gamma, k=particle.k, eps=particle.eps).g, float)
+
+
+def edge_line_tension(cut: int) -> float:
+    """Binding cost per unit length of one straight edge of a cut-``cut`` fibre, in units of g,
+    counted on the discrete lattice: bonds broken per period, over the two edges and the period
+    length. Cut 0 (along a lattice vector): 1; cut 1: 2/sqrt(3); cut 2: 3/sqrt(7)."""
+    width = 8
+    t = topology.fiber(width, cut, curved=False)
+    period = np.linalg.norm(topology.site_positions([topology.FIBER_AXES[cut]])[0])
+    return (3 * width - t.n_bonds) / (2 * period)
