@@ -65,6 +65,10 @@ void export_topology(py::module_& m) {
                                },
                                "(n_corners, 2) bulk-reference positions")
         .def_readonly("corner_color", &Topology::corner_color)
+        .def_property_readonly("pivot", [](const Topology& t) { return Eigen::Vector2d(t.pivot); },
+                               "curved fibre: the point its images turn about")
+        .def_readonly("bend_scale", &Topology::bend_scale,
+                      "curved fibre: the state's bend parameter is bend_scale * (angle between images)")
         .def("reference_state", &Topology::reference_state,
              "Flat reference state: corners (x0, y0, x1, ...) then period-map parameters.");
 }

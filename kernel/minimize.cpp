@@ -2,6 +2,7 @@
 
 #include <nlopt.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -19,36 +20,36 @@ struct CallbackState {
     int evaluations = 0;
     bool reached_tolerance = false;
     bool non_finite = false;
+    bool stopped = false;
     // NLopt's L-BFGS (Luksan) ends a run by itself once its gradient falls below an internal
-    // absolute threshold near 1e-8; the objective is scaled so that the user's tolerance sits
-    // far above it and only our criterion decides.
+    // absolute threshold near 1e-8. A run that starts there (a restart close to the minimum)
+    // sees the objective scaled up so that only our criterion decides; the first run is not
+    // scaled, since its first step is as long as the scaled gradient and a long step can
+    // escape from a merely local minimum (k_area < 0 makes the energy unbounded below).
     double scale = 1.0;
 };
 
 double nlopt_callback(unsigned n, const double* x, double* grad, void* data) {
     auto& s = *static_cast<CallbackState*>(data);
+    // NLopt may call again after a forced stop before it notices: those calls change nothing.
+    if (s.stopped) throw nlopt::forced_stop();
     s.x = Eigen::Map<const Vector>(x, n);
     const double energy = (*s.objective)(s.x, s.gradient);
     ++s.evaluations;
     if (!std::isfinite(energy) || !s.gradient.allFinite()) {
-        s.non_finite = true;
+        s.non_finite = s.stopped = true;
         throw nlopt::forced_stop();
     }
     if (grad) Eigen::Map<Vector>(grad, n) = s.scale * s.gradient;
     const double gnorm = s.gradient.size() ? s.gradient.cwiseAbs().maxCoeff() : 0.0;
-    if (energy <= s.best_energy) {
+    if (energy <= s.best_energy || gnorm <= s.options->gradient_tolerance) {
         s.best_energy = energy;
         s.best_x = s.x;
         s.best_gradient_norm = gnorm;
     }
-    if (gnorm <= s.options->gradient_tolerance) {
-        s.best_energy = energy;
-        s.best_x = s.x;
-        s.best_gradient_norm = gnorm;
-        s.reached_tolerance = true;
-        throw nlopt::forced_stop();
-    }
-    if (s.evaluations >= s.options->max_iterations) throw nlopt::forced_stop();
+    if (gnorm <= s.options->gradient_tolerance) s.reached_tolerance = s.stopped = true;
+    if (s.evaluations >= s.options->max_iterations) s.stopped = true;
+    if (s.stopped) throw nlopt::forced_stop();
     return s.scale * energy;
 }
 
@@ -79,11 +80,12 @@ MinimizeResult minimize_lbfgs(const Objective& objective, const Vector& x0,
     state.options = &options;
     state.gradient.resize(x0.size());
     state.best_x = x0;
-    state.scale = 1e-4 / options.gradient_tolerance;
     std::string status = "not started";
 
     Vector x = x0;
     for (int run = 0; run <= options.restarts; ++run) {
+        if (run > 0 && std::isfinite(state.best_gradient_norm) && state.best_gradient_norm > 0)
+            state.scale = std::max(1.0, 1e-4 / state.best_gradient_norm);
         nlopt::opt opt(nlopt::LD_LBFGS, static_cast<unsigned>(x.size()));
         opt.set_min_objective(nlopt_callback, &state);
         opt.set_vector_storage(static_cast<unsigned>(options.memory));
@@ -92,7 +94,7 @@ MinimizeResult minimize_lbfgs(const Objective& objective, const Vector& x0,
         opt.set_ftol_rel(0.0);
         opt.set_ftol_abs(0.0);
         opt.set_xtol_rel(0.0);
-        opt.set_maxeval(options.max_iterations);
+        opt.set_maxeval(std::max(1, options.max_iterations - state.evaluations));
         std::vector<double> xv(x.data(), x.data() + x.size());
         double fmin = 0;
         nlopt::result r;

@@ -6,8 +6,8 @@
 // Degrees of freedom: x = (corner 0 (x, y), corner 1 (x, y), ..., period-map parameters).
 // The period map sends a corner of the cell to its image n:
 //   fibre, straight:  r + n t
-//   fibre, curved:    g^n(r) with g(r) = R(theta) r + t (a rigid motion, so the fibre bends
-//                     with constant curvature; theta is free)
+//   fibre, curved:    g^n(r) with g(r) = R(theta) (r - c) + c + t (a rigid motion about the
+//                     cell's centroid c, so the fibre bends with constant curvature; theta is free)
 //   bulk:             r + n1 t1 + n2 t2
 #pragma once
 
@@ -55,16 +55,17 @@ inline ImagePoint image_point(const Topology& t, const Eigen::Vector2d& r, const
         out.d_period.block<2, 2>(0, 0) = n[0] * Eigen::Matrix2d::Identity();
         return out;
     }
-    // g^n(r) = R(n theta) r + s_n, with s_n = sum_{m=0}^{n-1} R(m theta) t for n > 0 and
-    // s_n = -sum_{m=1}^{|n|} R(-m theta) t for n < 0.
-    const double theta = period[2];
+    // g(r) = R(theta) (r - c) + c + t about the pivot c, so g^n(r) = R(n theta)(r - c) + c + s_n
+    // with s_n = sum_{m=0}^{n-1} R(m theta) t for n > 0 and s_n = -sum_{m=1}^{|n|} R(-m theta) t
+    // for n < 0. The state holds bend = bend_scale * theta.
+    const double theta = period[2] / t.bend_scale;
     const Eigen::Matrix2d quarter = rotation(M_PI / 2);  // dR(a)/da = R(a) * quarter
     const int steps = n[0];
     const Eigen::Matrix2d rn = rotation(steps * theta);
     out.d_corner = rn;
-    out.position = rn * r;
+    out.position = rn * (r - t.pivot) + t.pivot;
     Eigen::Matrix2d d_shift = Eigen::Matrix2d::Zero();
-    Eigen::Vector2d d_theta = steps * rn * quarter * r;
+    Eigen::Vector2d d_theta = steps * rn * quarter * (r - t.pivot);
     if (steps > 0) {
         for (int m = 0; m < steps; ++m) {
             const Eigen::Matrix2d rm = rotation(m * theta);
@@ -81,7 +82,7 @@ inline ImagePoint image_point(const Topology& t, const Eigen::Vector2d& r, const
         }
     }
     out.d_period.block<2, 2>(0, 0) = d_shift;
-    out.d_period.col(2) = d_theta;
+    out.d_period.col(2) = d_theta / t.bend_scale;
     return out;
 }
 

@@ -37,6 +37,32 @@ inline std::vector<int> rigid_body_pins(const Topology& t) {
     return {0, 1, 2 * far + (std::abs(d.x()) >= std::abs(d.y()) ? 1 : 0)};
 }
 
+// The three rigid-body modes at the reference state, orthonormalised: translations of every
+// corner, and the rotation about the corners' centroid, which also turns the period vectors
+// (a curved fibre's bend is unchanged by a rotation of everything).
+inline Eigen::MatrixXd rigid_body_modes(const Topology& t) {
+    const int nc = t.n_corners();
+    const Vector x_ref = t.reference_state();
+    Eigen::MatrixXd P = Eigen::MatrixXd::Zero(x_ref.size(), 3);
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    for (int c = 0; c < nc; ++c) centroid += t.reference[c];
+    centroid /= nc;
+    for (int c = 0; c < nc; ++c) {
+        P(2 * c, 0) = 1.0;
+        P(2 * c + 1, 1) = 1.0;
+        const Eigen::Vector2d r = t.reference[c] - centroid;
+        P(2 * c, 2) = -r.y();
+        P(2 * c + 1, 2) = r.x();
+    }
+    const int n_vectors = t.periodicity == Periodicity::Bulk ? 2 : (t.periodicity == Periodicity::Fiber ? 1 : 0);
+    for (int v = 0; v < n_vectors; ++v) {
+        const int i = 2 * nc + 2 * v;
+        P(i, 2) = -x_ref[i + 1];
+        P(i + 1, 2) = x_ref[i];
+    }
+    return Eigen::HouseholderQR<Eigen::MatrixXd>(P).householderQ() * Eigen::MatrixXd::Identity(x_ref.size(), 3);
+}
+
 // Linear response about the bulk reference: one Newton step whose stiffness matrix is that of
 // the particles without mismatch (positive semi-definite, exact at eps -> 0), driven by the
 // mismatch forces at the reference. The energy reported is the full nonlinear energy of the
@@ -78,10 +104,17 @@ MinimizeResult relax_linear(const Model& model, const Topology& topology) {
     if (solver.info() != Eigen::Success || !step.allFinite())
         throw std::runtime_error("linear solve: sparse Cholesky back-substitution failed");
 
-    MinimizeResult result;
-    result.x = x_ref;
+    // The pins choose one of the solutions that differ by a rigid motion; the one orthogonal
+    // to the rigid modes carries no linearised rotation, whose nonlinear energy (stretching
+    // by the angle squared) would depend on the aggregate's orientation.
+    Vector displacement = Vector::Zero(net.size());
     for (int i = 0; i < net.size(); ++i)
-        if (free_index[i] >= 0) result.x[i] += step[free_index[i]];
+        if (free_index[i] >= 0) displacement[i] = step[free_index[i]];
+    const Eigen::MatrixXd modes = rigid_body_modes(topology);
+    displacement -= modes * (modes.transpose() * displacement);
+
+    MinimizeResult result;
+    result.x = x_ref + displacement;
     Vector gradient;
     result.energy = net.energy(result.x, &gradient);
     result.gradient_norm = gradient.size() ? gradient.cwiseAbs().maxCoeff() : 0.0;

@@ -1,5 +1,6 @@
 #include "topology.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -147,6 +148,14 @@ Topology make_topology(const std::vector<LatticeVector>& input_sites, Periodicit
         }
         t.corner.push_back(ids);
         t.image.push_back(images);
+    }
+
+    if (curved) {
+        for (const auto& r : t.reference) t.pivot += r;
+        t.pivot /= t.n_corners();
+        double spread = 0;
+        for (const auto& r : t.reference) spread += (r - t.pivot).squaredNorm();
+        t.bend_scale = std::max(1.0, std::sqrt(spread / t.n_corners()));
     }
 
     int directed_bonds = 0;

@@ -40,10 +40,15 @@ struct Topology {
     std::vector<Vec2> reference;              // bulk-reference position of each corner
     std::vector<int> corner_color;            // 1 yellow, 0 red
     int n_bonds = 0;                          // bound pairs of sides (per cell if periodic)
+    // Curved fibre: images turn about the centroid of the cell's reference corners, and the
+    // angle enters the state as bend = bend_scale * theta (a length, the cell's RMS radius),
+    // so that its gradient is commensurate with the forces on corners.
+    Vec2 pivot = Vec2::Zero();
+    double bend_scale = 1.0;
 
     int n_particles() const { return static_cast<int>(sites.size()); }
     int n_corners() const { return static_cast<int>(reference.size()); }
-    // Number of period-map parameters: fibre (tx, ty[, theta]); bulk (t1x, t1y, t2x, t2y).
+    // Number of period-map parameters: fibre (tx, ty[, bend]); bulk (t1x, t1y, t2x, t2y).
     int n_period_parameters() const;
     // Reference values of the period-map parameters.
     Eigen::VectorXd reference_period_parameters() const;

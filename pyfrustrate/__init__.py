@@ -9,7 +9,7 @@ toy model).
 """
 from . import chain, continuum, topology
 from .particles import Hexagon
-from .relax import ConvergenceWarning, Relaxation, relax
+from .relaxation import ConvergenceWarning, Relaxation, relax
 
 __version__ = "0.1.0"
 __all__ = ["chain", "continuum", "topology", "Hexagon", "relax", "Relaxation", "ConvergenceWarning"]

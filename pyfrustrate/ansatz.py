@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import continuum, topology
-from .relax import relax
+from .relaxation import relax
 
 #: Aggregate kind of each candidate family, for the diagrams' colour code.
 FAMILY_PHASE = {
@@ -43,12 +43,13 @@ class Candidate:
 def catalogue(max_radius: int = 25, max_width: int = 35, cuts=(0, 1, 2), straight_fibers: bool = False,
               hole_patterns=("honeycomb", "kagome", "sqrt7")) -> list[Candidate]:
     """The candidates of Fig. 4a: the single particle (a disk of one), hexagonal disks
-    ``R = 1..max_radius``, fibres of widths ``1..max_width`` for each cut (curved where they
-    bend), optionally the straight cut-0 fibres, the bulk and bulks with holes."""
+    ``R = 1..max_radius``, fibres of each cut from the narrowest connected one to ``max_width``
+    (free to curve), optionally the straight cut-0 fibres, the bulk and bulks with holes."""
     out = [Candidate("single", 0, topology.disk(0))]
     out += [Candidate("disk", R, topology.disk(R)) for R in range(1, max_radius + 1)]
     for cut in cuts:
-        out += [Candidate(f"fiber_cut{cut}", w, topology.fiber(w, cut)) for w in range(1, max_width + 1)]
+        out += [Candidate(f"fiber_cut{cut}", w, topology.fiber(w, cut))
+                for w in range(topology.min_fiber_width(cut), max_width + 1)]
     if straight_fibers:
         out += [Candidate("fiber_cut0_straight", w, topology.fiber(w, 0, curved=False)) for w in range(1, max_width + 1)]
     out.append(Candidate("bulk", 0, topology.bulk()))

@@ -68,3 +68,51 @@ def draw_particle_springs(ax, corners, linewidth: float = 1.2, markersize: float
     ax.scatter(*c[0::2].T, s=markersize, color=RED_CORNER, edgecolor="k", linewidth=0.4, zorder=3)
     ax.set_aspect("equal")
     ax.autoscale_view()
+
+
+def shaded_colormap(color):
+    """White-to-``color`` colormap, for sizes inside a region of a phase diagram."""
+    from matplotlib.colors import LinearSegmentedColormap
+
+    return LinearSegmentedColormap.from_list("shade", ["#ffffff", color])
+
+
+def draw_ansatz_diagram(fig, ax, diagram: dict, continuum: dict, colorbar_axes=None):
+    """Numerical phase diagram (Figs. 3b, S1): cells coloured by the winning aggregate (black bulk
+    with holes, red disk, blue fibre, purple bulk), disks and fibres shaded by R/ell and W/ell,
+    with the continuum boundaries of Fig. 3a as dashed lines."""
+    from matplotlib.colors import LogNorm
+    from matplotlib.patches import Patch
+
+    nu, G, phase, length = diagram["nu"], diagram["Gamma"], diagram["phase"], diagram["length"]
+    ell = float(diagram["ell"])
+
+    def edges(x):
+        mid = 0.5 * (x[1:] + x[:-1])
+        return np.concatenate([[x[0] - (mid[0] - x[0])], mid, [x[-1] + (x[-1] - mid[-1])]])
+
+    nu_edges, G_edges = np.clip(edges(nu), 0, 1), np.clip(edges(G), 0, None)
+    norm = LogNorm(0.3, 30)
+    meshes = {}
+    for name in ("fiber", "disk"):
+        field = np.ma.masked_where(phase != name, np.clip(length / ell, norm.vmin, norm.vmax))
+        meshes[name] = ax.pcolormesh(G_edges, nu_edges, field, cmap=shaded_colormap(PHASE_COLORS[name]), norm=norm)
+    for name in ("bulk", "bulk_with_holes"):
+        field = np.ma.masked_where(phase != name, np.ones(phase.shape))
+        ax.pcolormesh(G_edges, nu_edges, field, cmap=shaded_colormap(PHASE_COLORS[name]), vmin=0, vmax=1.05)
+    line_nu = continuum["line_nu"]
+    for key in ("fiber_bulk", "disk_bulk", "disk_fiber", "disk_fiber_upper"):
+        ax.plot(continuum[key], line_nu, "--", color="w", lw=1.6)
+        ax.plot(continuum[key], line_nu, "--", color="k", lw=0.8)
+    ax.set_xlim(G_edges[0], G_edges[-1])
+    ax.set_ylim(0, 1)
+    ax.set_xlabel(r"line tension $\Gamma$")
+    ax.set_ylabel(r"Poisson ratio $\nu$")
+    handles = [Patch(color=PHASE_COLORS[p], label=label) for p, label in
+               (("bulk_with_holes", "bulk with holes"), ("disk", "disk"), ("fiber", "fibre"), ("bulk", "bulk"))]
+    handles.append(plt.Line2D([], [], color="k", ls="--", lw=0.8, label=r"continuum ($\ell\to\infty$)"))
+    ax.legend(handles=handles, loc="upper right", fontsize=7, framealpha=0.9)
+    if colorbar_axes is not None:
+        fig.colorbar(meshes["fiber"], cax=colorbar_axes[0], label=r"$W/\ell$")
+        fig.colorbar(meshes["disk"], cax=colorbar_axes[1], label=r"$R/\ell$")
+    return meshes

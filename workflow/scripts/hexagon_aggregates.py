@@ -5,7 +5,7 @@ import numpy as np
 
 from pyfrustrate import Hexagon, relax, topology
 from pyfrustrate.io import logging_to, save_npz
-from pyfrustrate.relax import particle_corners, particle_energies, periodic_images
+from pyfrustrate.relaxation import particle_corners, particle_energies, periodic_images
 
 s = snakemake.params.settings  # noqa: F821
 with logging_to(snakemake.log[0]):  # noqa: F821

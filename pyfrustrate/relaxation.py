@@ -36,7 +36,8 @@ class Relaxation:
         Particles and bound pairs of sides (per cell if periodic).
     state : ndarray
         Degrees of freedom: corners ``(x0, y0, x1, ...)`` then period-map parameters
-        (fibre: ``tx, ty[, theta]``; bulk: ``t1x, t1y, t2x, t2y``).
+        (fibre: ``tx, ty[, bend]`` with ``bend = bend_scale * angle`` between images, see
+        ``Topology``; bulk: ``t1x, t1y, t2x, t2y``).
     converged : bool
         L-BFGS: the largest gradient component fell below ``tol * k * eps``; linear: the solve
         succeeded.
@@ -158,14 +159,27 @@ def periodic_images(topology: Topology, state, corners, images=range(-1, 2)) -> 
     if topology.periodicity == "bulk":
         t1, t2 = period[:2], period[2:4]
         return np.concatenate([corners + a * t1 + b * t2 for a in images for b in images])
-    shift, angle = period[:2], (period[2] if topology.curved else 0.0)
+    # g(r) = R(theta) (r - pivot) + pivot + shift, as in kernel/network.hpp.
+    shift = period[:2]
+    angle = period[2] / topology.kernel.bend_scale if topology.curved else 0.0
+    pivot = np.asarray(topology.kernel.pivot)
     c, s = np.cos(angle), np.sin(angle)
     rotation = np.array([[c, -s], [s, c]])
     out = []
     for n in images:
         pts = corners.copy()
-        step = (lambda p: p @ rotation.T + shift) if n >= 0 else (lambda p: (p - shift) @ rotation)
+        step = ((lambda p: (p - pivot) @ rotation.T + pivot + shift) if n >= 0
+                else (lambda p: (p - shift - pivot) @ rotation + pivot))
         for _ in range(abs(n)):
             pts = step(pts)
         out.append(pts)
     return np.concatenate(out)
+
+
+def fiber_curvature(topology: Topology, state) -> float:
+    """Curvature (1/radius, lattice units) of a relaxed curved fibre: the angle between
+    successive images over the period length. Zero for straight fibres."""
+    if topology.periodicity != "fiber" or not topology.curved:
+        return 0.0
+    period = np.asarray(state, float)[2 * topology.n_corners:]
+    return float(period[2] / topology.kernel.bend_scale / np.linalg.norm(period[:2]))

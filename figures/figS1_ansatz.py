@@ -1,0 +1,19 @@
+"""Fig. S1: the phase diagram of Fig. 3b at the smaller ell = 2.5: disks give way to bulks
+with holes, with no dramatic change of the fibre and bulk regions (supplement S3)."""
+from pyfrustrate import plotting
+from pyfrustrate.io import load_npz, logging_to
+
+
+def main(diagram_path, continuum_path, outputs):
+    diagram = load_npz(diagram_path)
+    fig = plotting.figure(12.0, 9.0)
+    ax = fig.add_axes([0.1, 0.12, 0.66, 0.8])
+    cbars = [fig.add_axes([0.8, 0.12, 0.025, 0.8]), fig.add_axes([0.9, 0.12, 0.025, 0.8])]
+    plotting.draw_ansatz_diagram(fig, ax, diagram, load_npz(continuum_path), colorbar_axes=cbars)
+    ax.set_title(rf"pre-made aggregates, $\ell = {float(diagram['ell']):g}$", fontsize=9)
+    plotting.save(fig, outputs)
+
+
+if "snakemake" in globals():
+    with logging_to(snakemake.log[0]):  # noqa: F821
+        main(snakemake.input.diagram, snakemake.input.continuum[0], [snakemake.output.pdf, snakemake.output.png])  # noqa: F821

@@ -1,0 +1,120 @@
+# Comparison of pre-made aggregates (Figs. 3b, 4a, 4b, S1). Each particle's catalogue of relaxed
+# energies is computed once, by one job, and kept as a file; diagrams and figures read them.
+ANSATZ = config["ansatz"]
+DIAGRAM_NU = sorted({round(min(float(x), ANSATZ["nu_max"]), 4) for x in np.linspace(0, 1, ANSATZ["nu_count"])})
+
+
+def catalogue_file(ell, nu):
+    return f"results/ansatz/catalogue/ell{float(ell):g}_nu{float(nu):g}.npz"
+
+
+rule ansatz_catalogue:
+    output:
+        "results/ansatz/catalogue/ell{ell}_nu{nu}.npz",
+    params:
+        ell=lambda w: float(w.ell),
+        nu=lambda w: float(w.nu),
+        settings=ANSATZ,
+    log:
+        "results/logs/ansatz/catalogue_ell{ell}_nu{nu}.log",
+    script:
+        "../scripts/ansatz_catalogue.py"
+
+
+rule ansatz_diagram:
+    input:
+        lambda w: [catalogue_file(w.ell, nu) for nu in DIAGRAM_NU],
+    output:
+        "results/ansatz/diagram_ell{ell}.npz",
+    params:
+        ell=lambda w: float(w.ell),
+        nu=DIAGRAM_NU,
+        settings=ANSATZ,
+    log:
+        "results/logs/ansatz/diagram_ell{ell}.log",
+    script:
+        "../scripts/ansatz_diagram.py"
+
+
+rule ansatz_sizes:
+    input:
+        fiber=[catalogue_file(ell, ANSATZ["fiber_nu"]) for ell in ANSATZ["size_ells"]],
+        disk=[catalogue_file(ell, ANSATZ["disk_nu"]) for ell in ANSATZ["size_ells"]],
+    output:
+        "results/ansatz/sizes.npz",
+    params:
+        settings=ANSATZ,
+    log:
+        "results/logs/ansatz/sizes.log",
+    script:
+        "../scripts/ansatz_sizes.py"
+
+
+rule ansatz_line_tension:
+    output:
+        "results/ansatz/line_tension.json",
+    params:
+        settings=ANSATZ,
+    log:
+        "results/logs/ansatz/line_tension.log",
+    script:
+        "../scripts/ansatz_line_tension.py"
+
+
+rule ansatz_shapes:
+    output:
+        "results/ansatz/shapes.npz",
+    log:
+        "results/logs/ansatz/shapes.log",
+    script:
+        "../scripts/ansatz_shapes.py"
+
+
+rule fig3b_ansatz:
+    input:
+        diagram=f"results/ansatz/diagram_ell{ANSATZ['fig3b_ell']:g}.npz",
+        continuum=rules.continuum_phase_diagram.output,
+    output:
+        pdf=f"{FIGURES}/fig3b_ansatz.pdf",
+        png=f"{FIGURES}/fig3b_ansatz.png",
+    log:
+        "results/logs/fig3b_ansatz.log",
+    script:
+        "../../figures/fig3b_ansatz.py"
+
+
+rule figS1_ansatz:
+    input:
+        diagram=f"results/ansatz/diagram_ell{ANSATZ['figS1_ell']:g}.npz",
+        continuum=rules.continuum_phase_diagram.output,
+    output:
+        pdf=f"{FIGURES}/figS1_ansatz.pdf",
+        png=f"{FIGURES}/figS1_ansatz.png",
+    log:
+        "results/logs/figS1_ansatz.log",
+    script:
+        "../../figures/figS1_ansatz.py"
+
+
+rule fig4a_catalogue:
+    input:
+        rules.ansatz_shapes.output,
+    output:
+        pdf=f"{FIGURES}/fig4a_catalogue.pdf",
+        png=f"{FIGURES}/fig4a_catalogue.png",
+    log:
+        "results/logs/fig4a_catalogue.log",
+    script:
+        "../../figures/fig4a_catalogue.py"
+
+
+rule fig4b_sizes:
+    input:
+        rules.ansatz_sizes.output,
+    output:
+        pdf=f"{FIGURES}/fig4b_sizes.pdf",
+        png=f"{FIGURES}/fig4b_sizes.png",
+    log:
+        "results/logs/fig4b_sizes.log",
+    script:
+        "../../figures/fig4b_sizes.py"

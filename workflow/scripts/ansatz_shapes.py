@@ -1,0 +1,33 @@
+"""Relaxed shapes of the catalogue's members (Fig. 4a), mismatch exaggerated so that the
+deformations and the curvature of the asymmetric fibre are visible."""
+import numpy as np
+
+from pyfrustrate import Hexagon, relax, topology
+from pyfrustrate.io import logging_to, save_npz
+from pyfrustrate.relaxation import particle_corners, particle_energies, periodic_images
+
+ELL, NU, EPS = 2.5, 0.5, 0.04
+with logging_to(snakemake.log[0]):  # noqa: F821
+    particle = Hexagon.from_continuum(ELL, NU, eps=EPS)
+    bulk_pp = relax(particle, topology.bulk()).energy_per_particle
+    items = {
+        "single": (topology.disk(0), None), "disk_R1": (topology.disk(1), None), "disk_R3": (topology.disk(3), None),
+        "fiber_cut0": (topology.fiber(3, 0), range(-14, 15)), "fiber_cut1": (topology.fiber(6, 1), range(-8, 9)),
+        "fiber_cut2": (topology.fiber(4, 2), range(-6, 7)), "bulk": (topology.bulk(), range(-3, 4)),
+        "holes_honeycomb": (topology.bulk_with_holes("honeycomb"), range(-2, 3)),
+        "holes_kagome": (topology.bulk_with_holes("kagome"), range(-2, 2)),
+        "holes_sqrt7": (topology.bulk_with_holes("sqrt7"), range(-1, 2)),
+    }
+    out = {}
+    for name, (topo, images) in items.items():
+        r = relax(particle, topo, x0="linear")
+        corners = particle_corners(particle, topo, r.state)
+        energy = particle_energies(particle, topo, r.state) / bulk_pp
+        if images is not None:
+            count = len(images) if topo.periodicity == "fiber" else len(images) ** 2
+            corners = periodic_images(topo, r.state, corners, images=images)
+            energy = np.tile(energy, count)
+        out[f"{name}_corners"], out[f"{name}_energy"] = corners, energy
+        print(f"{name}: E/N = {r.energy_per_particle / bulk_pp:.4f} bulk, bonds/N = {topo.n_bonds / topo.n_particles:.3f}, "
+              f"converged={r.converged}")
+    save_npz(snakemake.output[0], ell=ELL, nu=NU, eps=EPS, names=np.array(list(items)), **out)  # noqa: F821
