@@ -24,7 +24,7 @@ def main(data_path, outputs):
                 ax.plot(G, d[f"{kind}_theory"], "--", color="#d3002d", lw=1.4, label="continuum")
                 ax.set_ylabel(rf"${symbol}^*/\ell$")
             else:
-                ax.set_ylabel(rf"${symbol}^*$ (lattice units)")
+                ax.set_ylabel(rf"${symbol}^*$ (particle spacings)")
             ax.set_xlabel(r"$\Gamma$")
             ax.set_title(rf"best {'fibre' if kind == 'fiber' else 'disk'}, $\nu = {nu:g}$", fontsize=8)
             ax.set_xlim(0, G[-1])

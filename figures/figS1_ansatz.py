@@ -10,7 +10,7 @@ def main(diagram_path, continuum_path, outputs):
     ax = fig.add_axes([0.1, 0.12, 0.66, 0.8])
     cbars = [fig.add_axes([0.8, 0.12, 0.025, 0.8]), fig.add_axes([0.9, 0.12, 0.025, 0.8])]
     plotting.draw_ansatz_diagram(fig, ax, diagram, load_npz(continuum_path), colorbar_axes=cbars)
-    ax.set_title(rf"pre-made aggregates, $\ell = {float(diagram['ell']):g}$", fontsize=9)
+    ax.text(0.02, 0.02, rf"$\ell = {float(diagram['ell']):g}$", transform=ax.transAxes, fontsize=9, color="w")
     plotting.save(fig, outputs)
 
 

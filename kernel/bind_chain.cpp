@@ -24,7 +24,7 @@ void export_chain(py::module_& m) {
             MinimizeResult r;
             {
                 py::gil_scoped_release release;
-                r = chain_relax(p, make_options(tol, max_iter, 10));
+                r = chain_relax(p, make_options(tol, max_iter, 10, eps));
             }
             return to_dict(r);
         },

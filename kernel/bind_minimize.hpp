@@ -19,11 +19,12 @@ inline pybind11::dict to_dict(const MinimizeResult& r) {
     return d;
 }
 
-inline MinimizeOptions make_options(double tol, int max_iter, int memory) {
+inline MinimizeOptions make_options(double tol, int max_iter, int memory, double step_scale) {
     MinimizeOptions o;
     o.gradient_tolerance = tol;
     o.max_iterations = max_iter;
     o.memory = memory;
+    o.step_scale = step_scale;
     return o;
 }
 

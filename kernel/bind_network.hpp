@@ -59,7 +59,7 @@ void export_network_functions(pybind11::module_& m) {
             MinimizeResult r;
             {
                 py::gil_scoped_release release;
-                r = relax_lbfgs(model, t, x0, make_options(tol, max_iter, memory));
+                r = relax_lbfgs(model, t, x0, make_options(tol, max_iter, memory, model.step_scale()));
             }
             return to_dict(r);
         },

@@ -47,13 +47,15 @@ template <int N>
 inline double triangle_area(const CornerArray<N>& x, int a, int b, int c, double k_area, double rest_area,
                             CornerArray<N>* grad, CornerMatrix<N>* hess) {
     const int idx[3] = {a, b, c};
-    double area = 0.0;
+    // From edge vectors, not absolute coordinates: far from the origin the products of
+    // coordinates would cancel to the area with a loss of digits that stalls the minimiser.
+    const Eigen::Vector2d ab = x.template segment<2>(2 * b) - x.template segment<2>(2 * a);
+    const Eigen::Vector2d ac = x.template segment<2>(2 * c) - x.template segment<2>(2 * a);
+    const double area = 0.5 * (ab.x() * ac.y() - ab.y() * ac.x());
     Eigen::Matrix<double, 6, 1> dA;  // dA/d(xa, ya, xb, yb, xc, yc)
     for (int m = 0; m < 3; ++m) {
-        const Eigen::Vector2d p = x.template segment<2>(2 * idx[m]);
         const Eigen::Vector2d q = x.template segment<2>(2 * idx[(m + 1) % 3]);
         const Eigen::Vector2d r = x.template segment<2>(2 * idx[(m + 2) % 3]);
-        area += 0.5 * (p.x() * q.y() - q.x() * p.y());
         dA(2 * m) = 0.5 * (q.y() - r.y());
         dA(2 * m + 1) = 0.5 * (r.x() - q.x());
     }

@@ -7,6 +7,7 @@
 
 #include "elements.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -29,6 +30,9 @@ struct HexagonModel {
                                         std::to_string(k_area));
         if (!(eps >= 0 && eps < 1)) throw std::invalid_argument("eps must lie in [0, 1)");
     }
+
+    // Typical corner displacement of a relaxation: the mismatch (at least a small floor).
+    double step_scale() const { return std::max(eps, 1e-3); }
 
     // The same particle without mismatch: its Hessian at the bulk reference is the stiffness
     // matrix of the linearised (eps -> 0) theory.

@@ -33,14 +33,14 @@ double nlopt_callback(unsigned n, const double* x, double* grad, void* data) {
     auto& s = *static_cast<CallbackState*>(data);
     // NLopt may call again after a forced stop before it notices: those calls change nothing.
     if (s.stopped) throw nlopt::forced_stop();
-    s.x = Eigen::Map<const Vector>(x, n);
+    s.x = s.options->step_scale * Eigen::Map<const Vector>(x, n);
     const double energy = (*s.objective)(s.x, s.gradient);
     ++s.evaluations;
     if (!std::isfinite(energy) || !s.gradient.allFinite()) {
         s.non_finite = s.stopped = true;
         throw nlopt::forced_stop();
     }
-    if (grad) Eigen::Map<Vector>(grad, n) = s.scale * s.gradient;
+    if (grad) Eigen::Map<Vector>(grad, n) = (s.scale * s.options->step_scale) * s.gradient;
     const double gnorm = s.gradient.size() ? s.gradient.cwiseAbs().maxCoeff() : 0.0;
     if (energy <= s.best_energy || gnorm <= s.options->gradient_tolerance) {
         s.best_energy = energy;
@@ -74,6 +74,7 @@ MinimizeResult minimize_lbfgs(const Objective& objective, const Vector& x0,
     if (!(options.gradient_tolerance > 0)) throw std::invalid_argument("tol must be positive");
     if (options.max_iterations < 1) throw std::invalid_argument("max_iter must be at least 1");
     if (!x0.allFinite()) throw std::invalid_argument("x0 contains non-finite values");
+    if (!(options.step_scale > 0)) throw std::invalid_argument("step_scale must be positive");
 
     CallbackState state;
     state.objective = &objective;
@@ -85,7 +86,7 @@ MinimizeResult minimize_lbfgs(const Objective& objective, const Vector& x0,
     Vector x = x0;
     for (int run = 0; run <= options.restarts; ++run) {
         if (run > 0 && std::isfinite(state.best_gradient_norm) && state.best_gradient_norm > 0)
-            state.scale = std::max(1.0, 1e-4 / state.best_gradient_norm);
+            state.scale = std::max(1.0, 1e-4 / (options.step_scale * state.best_gradient_norm));
         nlopt::opt opt(nlopt::LD_LBFGS, static_cast<unsigned>(x.size()));
         opt.set_min_objective(nlopt_callback, &state);
         opt.set_vector_storage(static_cast<unsigned>(options.memory));
@@ -95,7 +96,8 @@ MinimizeResult minimize_lbfgs(const Objective& objective, const Vector& x0,
         opt.set_ftol_abs(0.0);
         opt.set_xtol_rel(0.0);
         opt.set_maxeval(std::max(1, options.max_iterations - state.evaluations));
-        std::vector<double> xv(x.data(), x.data() + x.size());
+        const Vector y = x / options.step_scale;
+        std::vector<double> xv(y.data(), y.data() + y.size());
         double fmin = 0;
         nlopt::result r;
         try {

@@ -19,6 +19,10 @@ struct MinimizeOptions {
     int max_iterations = 100000;       // cap on energy+gradient evaluations
     int memory = 10;                   // L-BFGS history length
     int restarts = 5;                  // fresh L-BFGS runs after a roundoff-limited stop
+    // Typical displacement: NLopt works on x / step_scale. Its L-BFGS takes a first step of
+    // unit length in its variables, which must be small on the scale of the problem (here the
+    // mismatch eps): a long step can leave a merely local minimum.
+    double step_scale = 1.0;
 };
 
 struct MinimizeResult {

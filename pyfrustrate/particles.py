@@ -62,6 +62,12 @@ class Hexagon:
         return continuum.mapping(self.k, self.kc, self.k_area, 0.0, self.eps)
 
     @property
+    def force_scale(self) -> float:
+        """Typical force on a corner, ``eps * max(k, |k_area|, kc)``: the unit of the relaxation
+        tolerance (stiff areal terms at nu -> 1 raise both the forces and the precision floor)."""
+        return self.eps * max(self.k, abs(self.k_area), self.kc)
+
+    @property
     def bulk_energy_per_particle(self) -> float:
         """Leading-order bulk deformation energy per particle, ``(3 k + sqrt(3) k_area) eps^2``
         (= e_bulk * sqrt(3)/2, main text Eq. 8)."""

@@ -111,7 +111,7 @@ def draw_ansatz_diagram(fig, ax, diagram: dict, continuum: dict, colorbar_axes=N
     handles = [Patch(color=PHASE_COLORS[p], label=label) for p, label in
                (("bulk_with_holes", "bulk with holes"), ("disk", "disk"), ("fiber", "fibre"), ("bulk", "bulk"))]
     handles.append(plt.Line2D([], [], color="k", ls="--", lw=0.8, label=r"continuum ($\ell\to\infty$)"))
-    ax.legend(handles=handles, loc="upper right", fontsize=7, framealpha=0.9)
+    ax.legend(handles=handles, loc="lower center", bbox_to_anchor=(0.5, 1.01), ncol=3, fontsize=7, frameon=False)
     if colorbar_axes is not None:
         fig.colorbar(meshes["fiber"], cax=colorbar_axes[0], label=r"$W/\ell$")
         fig.colorbar(meshes["disk"], cax=colorbar_axes[1], label=r"$R/\ell$")

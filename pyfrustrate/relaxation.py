@@ -39,8 +39,8 @@ class Relaxation:
         (fibre: ``tx, ty[, bend]`` with ``bend = bend_scale * angle`` between images, see
         ``Topology``; bulk: ``t1x, t1y, t2x, t2y``).
     converged : bool
-        L-BFGS: the largest gradient component fell below ``tol * k * eps``; linear: the solve
-        succeeded.
+        L-BFGS: the largest gradient component fell below ``tol * particle.force_scale``
+        (``eps * max(k, |k_area|, kc)``); linear: the solve succeeded.
     iterations : int
         Energy and gradient evaluations (1 for the linear solve).
     gradient_norm : float
@@ -86,8 +86,8 @@ def relax(particle, topology: Topology, method: str = "lbfgs", tol: float = 1e-5
     topology : Topology
     method : {"lbfgs", "linear"}
     tol : float
-        L-BFGS stops when the largest gradient component is below ``tol * k * eps`` (forces are
-        of order ``k * eps``).
+        L-BFGS stops when the largest gradient component is below ``tol * particle.force_scale``
+        (forces are of order ``eps * max(k, |k_area|)``).
     x0 : None, "linear" or array
         L-BFGS start: the bulk reference (None), the linear solution ("linear", usually the
         fastest route to the nonlinear minimum) or a given state (warm start, same layout as
@@ -116,9 +116,14 @@ def relax(particle, topology: Topology, method: str = "lbfgs", tol: float = 1e-5
             start = np.asarray(x0, dtype=float).ravel()
             if start.shape != topology.reference_state().shape:
                 raise ValueError(f"x0 has {start.size} entries, the topology needs {topology.reference_state().size}")
-        out = _kernel.relax_lbfgs(model, topology.kernel, start, tol * particle.k * particle.eps, int(max_iter), int(memory))
+        out = _kernel.relax_lbfgs(model, topology.kernel, start, tol * particle.force_scale, int(max_iter), int(memory))
     if not np.isfinite(out["energy"]):
         raise RuntimeError(f"relax: the energy became non-finite ({out['status']})")
+    if out["energy"] < 0:
+        # Every term is non-negative near the reference (the sheet is stable for k_area > -sqrt3 k);
+        # a negative energy means the minimiser left that basin (k_area < 0 is unbounded below).
+        raise RuntimeError(f"relax({topology.label}): the minimiser escaped the physical minimum (energy "
+                           f"{out['energy']:.3g} < 0, k_area = {particle.k_area:.3g}); try x0='linear' or a larger tol")
     if not out["converged"]:
         warnings.warn(f"relax({topology.label}, method={method!r}) did not converge: {out['status']}, "
                       f"max gradient {out['gradient_norm']:.3g} after {out['iterations']} evaluations",
