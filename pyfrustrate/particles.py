@@ -43,6 +43,10 @@ class Hexagon:
         object.__setattr__(self, "_kernel_model",
                            _kernel.HexagonModel(float(self.k), float(self.kc), float(self.k_area), float(self.eps)))
 
+    def __reduce__(self):
+        # Pickled by its parameters (the kernel evaluator is rebuilt), for process pools.
+        return (type(self), (self.k, self.kc, self.k_area, self.eps))
+
     @classmethod
     def from_continuum(cls, ell: float, nu: float, eps: float = 0.01, k: float = 1.0) -> "Hexagon":
         """The particle whose continuum limit has boundary-layer length ``ell`` and Poisson ratio

@@ -1,0 +1,194 @@
+"""The speed/accuracy knob of ``relax``, measured: energy error against a tight reference vs time.
+
+Aggregates: ``disk(15)`` (721 particles) and ``fiber(30, 1)`` (one period of a 30-wide straight
+mirror-symmetric fibre, curved=True: the period map has a free angle), ell = 5, nu in {0.2, 0.9},
+eps in {0.005, 0.01, 0.02}. Methods:
+
+* ``linear``               one sparse LDL^T solve (error O(eps^2) by construction);
+* ``lbfgs tol=T``          L-BFGS from the bulk reference, stops at max|grad| <= T F, with the
+                           kernel's force unit F = particle.force_scale = eps max(k, |k_area|, kc)
+                           (k eps at nu = 0.2; 14.7 k eps at nu = 0.9, where k_area = 14.7 k);
+* ``lbfgs tol=T (warm)``   the same from the linear solution (``x0='linear'``; time includes the
+                           linear solve), T in {1e-2, 1e-3, 1e-4, 1e-5}.
+
+Reference: two chains, linear solve -> L-BFGS tol=1e-4 -> tol=1e-7 and cold L-BFGS tol=1e-3 ->
+tol=1e-4 -> tol=1e-7 (each warm-started from the last); the lowest sane energy they reach, or
+that of any converged run of the sweep if lower (flagged; it happens when both chains run away,
+or at the 1e-12 level where the reference can't be resolved). tol=1e-7 is often below what L-BFGS can resolve in double
+precision (NLopt stops "roundoff limited"): the gradient the reference reached is printed, and
+the error of the tol=1e-5 runs (~1e-12) shows the reference's own resolution.
+
+Runs are capped at ``--max-iter`` evaluations (default 5000). A run whose energy is negative or
+not finite is reported as DIVERGED: for nu < 1/3 the areal stiffness is negative and the energy
+unbounded below, and L-BFGS can run away (see README). Timings: min over repeats (diverged runs
+are timed once).
+
+    python benchmarks/bench_tradeoff.py [--quick] [--repeats 3] [--csv PATH]
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import statistics
+import sys
+import warnings
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import fmt_time, import_pyfrustrate, machine_line, table, timed  # noqa: E402
+
+
+pf = import_pyfrustrate()
+
+ELL = 5.0
+TOLS = (1e-2, 1e-3, 1e-4, 1e-5)
+REF_TOL = 1e-7
+
+
+def methods():
+    out = [("linear", "linear", None, None)]
+    out += [(f"lbfgs {t:g}", "lbfgs", t, None) for t in TOLS]
+    out += [(f"lbfgs {t:g} warm", "lbfgs", t, "linear") for t in TOLS]
+    return out
+
+
+def _sane(r):
+    return r is not None and math.isfinite(r.energy) and r.energy > 0
+
+
+def reference(p, topo, max_iter):
+    """Sane end points of two chains, linear -> tol 1e-4 -> tol 1e-7 and cold tol 1e-3 ->
+    tol 1e-4 -> tol 1e-7 (each step warm-started from the last sane state)."""
+    out = []
+    for first in (pf.relax(p, topo, "linear"),
+                  pf.relax(p, topo, "lbfgs", tol=1e-3, max_iter=max_iter)):
+        last = first
+        for tol in (1e-4, REF_TOL):
+            if not _sane(last):
+                break
+            r = pf.relax(p, topo, "lbfgs", tol=tol, x0=last.state, max_iter=max_iter)
+            if _sane(r):
+                out.append(r)
+                last = r
+            else:
+                break
+    return out
+
+
+def measure(p, topo, method, tol, x0, repeats, max_iter):
+    times, r = [], None
+    for _ in range(repeats):
+        kw = {} if method == "linear" else dict(tol=tol, x0=x0, max_iter=max_iter)
+        t, r = timed(pf.relax, p, topo, method, **kw)
+        times.append(t)
+        if not _sane(r):
+            break
+    return min(times), statistics.median(times), r
+
+
+def cell(row):
+    if row["diverged"]:
+        return f"DIVERGED @ {fmt_time(row['t_min'])}"
+    flag = "" if row["converged"] else "!"
+    return f"{row['rel_error']:.1e}{flag} @ {fmt_time(row['t_min'])}"
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--quick", action="store_true", help="smaller aggregates, one eps, one repeat")
+    ap.add_argument("--repeats", type=int, default=None)
+    ap.add_argument("--max-iter", type=int, default=5000)
+    ap.add_argument("--csv", type=Path, default=None, help="write the full table (long format) here")
+    args = ap.parse_args(argv)
+    repeats = args.repeats or (1 if args.quick else 3)
+    if args.quick:
+        topologies = [pf.topology.disk(8), pf.topology.fiber(12, 1)]
+        nus, epss = (0.2, 0.9), (0.01,)
+    else:
+        topologies = [pf.topology.disk(15), pf.topology.fiber(30, 1)]
+        nus, epss = (0.2, 0.9), (0.005, 0.01, 0.02)
+
+    print(f"bench_tradeoff: ell={ELL}; error = (E - E_ref)/E_ref, time = min of {repeats}; "
+          f"{machine_line()}")
+    print("  cells: relative energy error @ time; '!' = stopped short of its tolerance "
+          f"(cap {args.max_iter} evaluations or roundoff), DIVERGED = energy < 0 or not finite\n")
+    rows = []
+    warnings.simplefilter("ignore", pf.ConvergenceWarning)
+    for topo in topologies:
+        for nu in nus:
+            for eps in epss:
+                p = pf.Hexagon.from_continuum(ELL, nu, eps)
+                chain = reference(p, topo, max(args.max_iter, 20000))
+                config = []
+                for name, method, tol, x0 in methods():
+                    t_min, t_med, r = measure(p, topo, method, tol, x0, repeats, args.max_iter)
+                    config.append(dict(
+                        topology=topo.label, n_particles=topo.n_particles, nu=nu, eps=eps, method=name,
+                        tol=tol if tol is not None else "", start=x0 or ("" if method == "linear" else "reference"),
+                        t_min=t_min, t_median=t_med, evals=r.iterations, converged=r.converged,
+                        diverged=not _sane(r), energy=r.energy))
+                # Reference: the lowest sane energy of the tol-1e-7 chains, or of any converged
+                # L-BFGS run of the sweep if that is lower (then flagged).
+                candidates = [(r.energy, r, "chain") for r in chain]
+                candidates += [(c["energy"], None, c["method"]) for c in config
+                               if c["converged"] and not c["diverged"] and c["method"] != "linear"]
+                e_ref, ref_run, source = min(candidates, key=lambda c: c[0]) if candidates else (
+                    float("nan"), None, "none")
+                best_chain = min(chain, key=lambda r: r.energy) if chain else None
+                for c in config:
+                    c.update(rel_error=float("nan") if c["diverged"] else (c["energy"] - e_ref) / e_ref,
+                             energy_ref=e_ref, ref_source=source,
+                             ref_gmax_over_force_scale=(best_chain.gradient_norm / getattr(p, "force_scale", p.k * p.eps))
+                             if best_chain else float("nan"),
+                             ref_reached_tol=bool(best_chain and best_chain.converged))
+                rows += config
+
+    # Side by side: one table per topology, (nu, eps) rows, methods as columns (two halves).
+    names = [m[0] for m in methods()]
+    halves = [names[:5], names[5:]]
+    for topo in topologies:
+        sub = [r for r in rows if r["topology"] == topo.label]
+        keys = sorted({(r["nu"], r["eps"]) for r in sub})
+        print(f"{topo.label} ({topo.n_particles} particles per {'cell' if topo.periodicity != 'none' else 'aggregate'})")
+        for half in halves:
+            body = []
+            for nu, eps in keys:
+                cells = {r["method"]: cell(r) for r in sub if (r["nu"], r["eps"]) == (nu, eps)}
+                body.append([f"{nu:g}", f"{eps:g}"] + [cells[m] for m in half])
+            print("  " + table(body, ["nu", "eps"] + half).replace("\n", "\n  "))
+        refs = [(r["nu"], r["eps"], r["ref_gmax_over_force_scale"], r["ref_reached_tol"], r["ref_source"])
+                for r in sub if r["method"] == "linear"]
+        print("  reference max|grad|/force_scale: " + ", ".join(
+            f"nu={nu:g} eps={eps:g}: {g:.0e}{'' if ok else '*'}{'' if src == 'chain' else ' [' + src + ']'}"
+            for nu, eps, g, ok, src in refs)
+            + "\n  (* = tol 1e-7 not reached: NLopt stopped roundoff-limited; [m] = reference taken from run m,"
+            "\n  lower than the tol-1e-7 chains, or the only sane one)\n")
+
+    # Knob summary: per method, the median over sane configurations.
+    body = []
+    for name in names:
+        sel = [r for r in rows if r["method"] == name]
+        ok = [r for r in sel if not r["diverged"] and math.isfinite(r["rel_error"])]
+        if not ok:
+            body.append([name, "-", "-", "-", f"{len(sel) - len(ok)}/{len(sel)}"])
+            continue
+        body.append([name, f"{statistics.median(abs(r['rel_error']) for r in ok):.1e}",
+                     f"{max(abs(r['rel_error']) for r in ok):.1e}",
+                     fmt_time(statistics.median(r["t_min"] for r in ok)),
+                     f"{len(sel) - len(ok)}/{len(sel)}"])
+    print("summary over all configurations (diverged runs excluded from the statistics)")
+    print("  " + table(body, ["method", "median |error|", "max |error|", "median time", "diverged"]).replace(
+        "\n", "\n  "))
+
+    if args.csv:
+        with open(args.csv, "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+        print(f"\nwrote {args.csv}")
+    return rows
+
+
+if __name__ == "__main__":
+    main()
