@@ -13,6 +13,8 @@ shared machine hit every path alike; min and median reported):
 * ``kernel linear``       ``relax(..., 'linear')``: one sparse LDL^T solve (not converged to the
                           gradient tolerance: its energy error is O(eps^2), see bench_tradeoff);
 * ``kernel lbfgs warm``   ``relax(..., 'lbfgs', x0='linear')``: the linear solve then L-BFGS;
+* ``kernel newton``       ``relax(..., 'newton')``: Newton steps reusing the factorised reference
+                          stiffness from the linear solution, to the same tolerance;
 * ``scipy L-BFGS-B``      ``scipy.optimize.minimize(method='L-BFGS-B', jac=True)`` on the numpy
                           energy of ``numpy_hexagon.py`` (same memory, 10 pairs): the baseline;
 * ``scipy + naive numpy`` the same on ``NaiveNumpyHexagon`` (particle-major arrays, np.add.at),
@@ -91,7 +93,8 @@ def run_paths(p, topo, repeats):
         return run
 
     paths = {"kernel lbfgs": kernel("lbfgs"), "kernel linear": kernel("linear"),
-             "kernel lbfgs warm": kernel("lbfgs", x0="linear"), "scipy L-BFGS-B": scipy_run(model),
+             "kernel lbfgs warm": kernel("lbfgs", x0="linear"), "kernel newton": kernel("newton"),
+             "scipy L-BFGS-B": scipy_run(model),
              "scipy + naive numpy": scipy_run(naive)}
     times = {k: [] for k in paths}
     results = {}

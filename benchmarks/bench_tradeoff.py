@@ -50,6 +50,7 @@ def methods():
     out = [("linear", "linear", None, None)]
     out += [(f"lbfgs {t:g}", "lbfgs", t, None) for t in TOLS]
     out += [(f"lbfgs {t:g} warm", "lbfgs", t, "linear") for t in TOLS]
+    out += [(f"newton {t:g}", "newton", t, None) for t in TOLS]
     return out
 
 
@@ -79,7 +80,7 @@ def reference(p, topo, max_iter):
 def measure(p, topo, method, tol, x0, repeats, max_iter):
     times, r = [], None
     for _ in range(repeats):
-        kw = {} if method == "linear" else dict(tol=tol, x0=x0, max_iter=max_iter)
+        kw = {} if method == "linear" else dict(tol=tol, max_iter=max_iter, **({} if x0 is None else {"x0": x0}))
         t, r = timed(pf.relax, p, topo, method, **kw)
         times.append(t)
         if not _sane(r):

@@ -67,6 +67,19 @@ void export_network_functions(pybind11::module_& m) {
         "NLopt L-BFGS from x0 until max |gradient| <= tol; returns a dict (x, energy, converged, iterations, "
         "gradient_norm, status).");
     m.def(
+        "relax_newton",
+        [](const Model& model, const Topology& t, double tol, int max_iter) {
+            MinimizeResult r;
+            {
+                py::gil_scoped_release release;
+                r = relax_newton(model, t, make_options(tol, max_iter, 10, model.step_scale()));
+            }
+            return to_dict(r);
+        },
+        py::arg("model"), py::arg("topology"), py::arg("tol"), py::arg("max_iter"),
+        "Newton steps with the factorised reference stiffness from the linear solution, until max |gradient| <= "
+        "tol (L-BFGS takes over if they stall); returns a dict like relax_lbfgs.");
+    m.def(
         "relax_linear",
         [](const Model& model, const Topology& t) {
             MinimizeResult r;

@@ -63,64 +63,137 @@ inline Eigen::MatrixXd rigid_body_modes(const Topology& t) {
     return Eigen::HouseholderQR<Eigen::MatrixXd>(P).householderQ() * Eigen::MatrixXd::Identity(x_ref.size(), 3);
 }
 
-// Linear response about the bulk reference: one Newton step whose stiffness matrix is that of
-// the particles without mismatch (positive semi-definite, exact at eps -> 0), driven by the
-// mismatch forces at the reference. The energy reported is the full nonlinear energy of the
-// resulting state, an upper bound on the minimum that is exact to O(eps^4).
+// The stiffness of the linearised (eps -> 0) theory: the Hessian of the particles without
+// mismatch at the bulk reference, positive semi-definite, with the three rigid-body degrees of
+// freedom pinned. Factorised once; every solve after that is two triangular sweeps.
+class ReferenceStiffness {
+   public:
+    template <class Model>
+    ReferenceStiffness(const Model& model, const Topology& topology) : size_(0) {
+        const Model rest_model = model.without_mismatch();
+        const Network<Model> rest{rest_model, topology};
+        size_ = rest.size();
+        const Eigen::SparseMatrix<double> H = rest.gauss_newton_hessian(topology.reference_state());
+        const std::vector<int> pins = rigid_body_pins(topology);
+        free_index_.assign(size_, -1);
+        int n_free = 0;
+        for (int i = 0; i < size_; ++i)
+            if (std::find(pins.begin(), pins.end(), i) == pins.end()) free_index_[i] = n_free++;
+        std::vector<Eigen::Triplet<double>> entries;
+        for (int col = 0; col < H.outerSize(); ++col)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(H, col); it; ++it)
+                if (free_index_[it.row()] >= 0 && free_index_[it.col()] >= 0)
+                    entries.emplace_back(free_index_[it.row()], free_index_[it.col()], it.value());
+        Eigen::SparseMatrix<double> K(n_free, n_free);
+        K.setFromTriplets(entries.begin(), entries.end());
+        solver_.compute(K);
+        const double pivot_floor =
+            1e-13 * (solver_.info() == Eigen::Success ? solver_.vectorD().cwiseAbs().maxCoeff() : 0.0);
+        if (solver_.info() != Eigen::Success || (solver_.vectorD().array() <= pivot_floor).any())
+            throw std::runtime_error(
+                "linear solve: the stiffness matrix is not positive definite (the topology has a floppy mode "
+                "or the parameters make the network unstable); use method='lbfgs'");
+    }
+
+    // K^-1 r on the free degrees of freedom (pinned ones get 0).
+    Vector solve(const Vector& residual) const {
+        Vector rhs(solver_.rows());
+        for (int i = 0; i < size_; ++i)
+            if (free_index_[i] >= 0) rhs[free_index_[i]] = residual[i];
+        const Vector step = solver_.solve(rhs);
+        if (!step.allFinite()) throw std::runtime_error("linear solve: sparse Cholesky back-substitution failed");
+        Vector out = Vector::Zero(size_);
+        for (int i = 0; i < size_; ++i)
+            if (free_index_[i] >= 0) out[i] = step[free_index_[i]];
+        return out;
+    }
+
+   private:
+    int size_;
+    std::vector<int> free_index_;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
+};
+
+// Linear response about the bulk reference: one Newton step with the reference stiffness,
+// driven by the mismatch forces at the reference. The pins choose one of the solutions that
+// differ by a rigid motion; the one orthogonal to the rigid modes carries no linearised
+// rotation, whose nonlinear energy (stretching by the angle squared) would depend on the
+// aggregate's orientation. The energy reported is the full nonlinear energy of that state, an
+// upper bound on the minimum that is exact to O(eps^4).
+template <class Model>
+Vector linear_response(const Model& model, const Topology& topology, const ReferenceStiffness& stiffness) {
+    const Network<Model> net{model, topology};
+    const Vector x_ref = topology.reference_state();
+    Vector gradient;
+    net.energy(x_ref, &gradient);
+    Vector displacement = -stiffness.solve(gradient);
+    const Eigen::MatrixXd modes = rigid_body_modes(topology);
+    displacement -= modes * (modes.transpose() * displacement);
+    return x_ref + displacement;
+}
+
 template <class Model>
 MinimizeResult relax_linear(const Model& model, const Topology& topology) {
     const Network<Model> net{model, topology};
-    const Model rest_model = model.without_mismatch();
-    const Network<Model> rest{rest_model, topology};
-    const Vector x_ref = topology.reference_state();
-    Vector force;
-    net.energy(x_ref, &force);
-    force = -force;
-
-    const Eigen::SparseMatrix<double> H = rest.gauss_newton_hessian(x_ref);
-    std::vector<int> pins = rigid_body_pins(topology);
-    std::vector<int> free_index(net.size(), -1);
-    int n_free = 0;
-    for (int i = 0; i < net.size(); ++i)
-        if (std::find(pins.begin(), pins.end(), i) == pins.end()) free_index[i] = n_free++;
-    std::vector<Eigen::Triplet<double>> entries;
-    for (int col = 0; col < H.outerSize(); ++col)
-        for (Eigen::SparseMatrix<double>::InnerIterator it(H, col); it; ++it)
-            if (free_index[it.row()] >= 0 && free_index[it.col()] >= 0)
-                entries.emplace_back(free_index[it.row()], free_index[it.col()], it.value());
-    Eigen::SparseMatrix<double> K(n_free, n_free);
-    K.setFromTriplets(entries.begin(), entries.end());
-    Vector rhs(n_free);
-    for (int i = 0; i < net.size(); ++i)
-        if (free_index[i] >= 0) rhs[free_index[i]] = force[i];
-
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(K);
-    const double pivot_floor = 1e-13 * (solver.info() == Eigen::Success ? solver.vectorD().cwiseAbs().maxCoeff() : 0.0);
-    if (solver.info() != Eigen::Success || (solver.vectorD().array() <= pivot_floor).any())
-        throw std::runtime_error(
-            "linear solve: the stiffness matrix is not positive definite (the topology has a floppy mode "
-            "or the parameters make the network unstable); use method='lbfgs'");
-    const Vector step = solver.solve(rhs);
-    if (solver.info() != Eigen::Success || !step.allFinite())
-        throw std::runtime_error("linear solve: sparse Cholesky back-substitution failed");
-
-    // The pins choose one of the solutions that differ by a rigid motion; the one orthogonal
-    // to the rigid modes carries no linearised rotation, whose nonlinear energy (stretching
-    // by the angle squared) would depend on the aggregate's orientation.
-    Vector displacement = Vector::Zero(net.size());
-    for (int i = 0; i < net.size(); ++i)
-        if (free_index[i] >= 0) displacement[i] = step[free_index[i]];
-    const Eigen::MatrixXd modes = rigid_body_modes(topology);
-    displacement -= modes * (modes.transpose() * displacement);
-
     MinimizeResult result;
-    result.x = x_ref + displacement;
+    result.x = linear_response(model, topology, ReferenceStiffness(model, topology));
     Vector gradient;
     result.energy = net.energy(result.x, &gradient);
     result.gradient_norm = gradient.size() ? gradient.cwiseAbs().maxCoeff() : 0.0;
     result.converged = std::isfinite(result.energy);
     result.iterations = 1;
     result.status = "linear solve";
+    return result;
+}
+
+// The nonlinear minimum by Newton steps with the reference stiffness, factorised once:
+// x <- x - K^-1 grad E(x) from the linear response, halving a step that raises the energy.
+// Each step costs one energy and two triangular sweeps, and the contraction is fast wherever
+// the linearised theory is good (small eps); where it is not (progress per step slower than
+// `stall`), L-BFGS takes over from the best state with the remaining evaluations.
+template <class Model>
+MinimizeResult relax_newton(const Model& model, const Topology& topology, const MinimizeOptions& options) {
+    const Network<Model> net{model, topology};
+    const ReferenceStiffness stiffness(model, topology);
+    constexpr double stall = 0.5;  // required reduction of the largest force per step
+    Vector x = linear_response(model, topology, stiffness);
+    Vector gradient;
+    double energy = net.energy(x, &gradient);
+    double gnorm = gradient.cwiseAbs().maxCoeff();
+    int evaluations = 1;
+    while (gnorm > options.gradient_tolerance && evaluations < options.max_iterations) {
+        const Vector step = stiffness.solve(gradient);
+        double length = 1.0;
+        Vector trial, trial_gradient;
+        double trial_energy = 0;
+        for (int halving = 0; halving < 4; ++halving, length *= 0.5) {
+            trial = x - length * step;
+            trial_energy = net.energy(trial, &trial_gradient);
+            ++evaluations;
+            if (trial_energy <= energy) break;
+        }
+        const double trial_gnorm = trial_gradient.cwiseAbs().maxCoeff();
+        if (!(trial_energy <= energy) || !(trial_gnorm < stall * gnorm)) {
+            if (trial_energy <= energy) x = trial;  // keep the progress made, then hand over
+            MinimizeOptions rest = options;
+            rest.max_iterations = std::max(1, options.max_iterations - evaluations);
+            MinimizeResult result = relax_lbfgs(model, topology, x, rest);
+            result.iterations += evaluations;
+            result.status = "newton stalled, then L-BFGS: " + result.status;
+            return result;
+        }
+        x = trial;
+        energy = trial_energy;
+        gradient = trial_gradient;
+        gnorm = trial_gnorm;
+    }
+    MinimizeResult result;
+    result.x = x;
+    result.energy = energy;
+    result.gradient_norm = gnorm;
+    result.iterations = evaluations;
+    result.converged = gnorm <= options.gradient_tolerance;
+    result.status = result.converged ? "gradient tolerance reached (newton)" : "maximum number of iterations reached";
     return result;
 }
 

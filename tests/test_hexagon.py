@@ -759,3 +759,34 @@ def test_lbfgs_finds_the_local_minimum_for_negative_areal_stiffness(make):
         r = pyfrustrate.relax(particle, top, max_iter=20_000)
     assert r.converged, r.status
     assert 0 <= r.energy <= lin.energy * (1 + 1e-12)
+
+
+# --- method="newton": the nonlinear minimum by Newton steps with the reference stiffness ------
+
+@pytest.mark.parametrize("nu", [0.2, 0.9])
+@pytest.mark.parametrize("make", [lambda: T.disk(8), lambda: T.fiber(12, 0), lambda: T.fiber(12, 1), T.bulk],
+                         ids=["disk", "fibre cut 0", "fibre cut 1", "bulk"])
+def test_newton_reaches_the_lbfgs_minimum(nu, make):
+    """Two different algorithms, one minimum: Newton with the fixed eps = 0 stiffness (falling
+    back on L-BFGS where it stalls) and NLopt's L-BFGS agree to the tolerance."""
+    particle = pyfrustrate.Hexagon.from_continuum(5.0, nu, eps=0.01)
+    topo = make()
+    newton = pyfrustrate.relax(particle, topo, method="newton", tol=1e-6)
+    lbfgs = pyfrustrate.relax(particle, topo, method="lbfgs", tol=1e-6)
+    assert newton.converged and newton.gradient_norm <= 1e-6 * particle.force_scale
+    assert newton.energy == pytest.approx(lbfgs.energy, rel=1e-8)
+
+
+def test_newton_is_a_few_steps_at_small_eps():
+    particle = pyfrustrate.Hexagon.from_continuum(5.0, 0.5, eps=0.01)
+    r = pyfrustrate.relax(particle, T.fiber(30, 1), method="newton")
+    assert r.converged and r.iterations <= 12 and "newton" in r.status
+
+
+def test_newton_rejects_a_start_and_respects_its_cap():
+    particle = pyfrustrate.Hexagon.from_continuum(5.0, 0.5, eps=0.01)
+    with pytest.raises(ValueError, match="x0"):
+        pyfrustrate.relax(particle, T.disk(3), method="newton", x0="linear")
+    with pytest.warns(pyfrustrate.ConvergenceWarning):
+        r = pyfrustrate.relax(particle, T.disk(6), method="newton", tol=1e-12, max_iter=2)
+    assert not r.converged and r.iterations <= 2
