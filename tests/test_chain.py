@@ -285,7 +285,7 @@ def test_non_convergence_is_reported():
 @pytest.mark.parametrize("max_iter", [2, 20])
 def test_max_iter_caps_the_evaluations(max_iter):
     # chain.relax documents max_iter as the cap on energy-and-gradient evaluations, and
-    # `iterations` as the evaluations used. KNOWN BUG (kernel/minimize.cpp): the cap is enforced by
+    # `iterations` as the evaluations used. Regression (kernel/minimize.cpp, fixed): the cap was enforced by
     # throwing nlopt::forced_stop from the objective, but NLopt's C++ wrapper only sets a stop flag
     # that L-BFGS (Luksan) checks between line searches, so it keeps evaluating (returning
     # HUGE_VAL) and the callback keeps counting: max_iter = 2 gives 12 evaluations, 5 gives 26.

@@ -351,7 +351,7 @@ def test_60_degree_rotation_swaps_colours_odd_in_eps():
 
 
 def test_linear_solve_is_independent_of_the_orientation_of_the_site_set():
-    # KNOWN BUG (kernel/relax.hpp, relax_linear): the linear solve pins corner 0 and one
+    # Regression (kernel/relax.hpp, fixed by projecting out rigid modes): the linear solve pinned corner 0 and one
     # coordinate of the corner farthest from it against rigid motions, so its solution carries a
     # linearised rotation that depends on the corner numbering; the reported energy is the full
     # non-linear energy of that state, in which a linearised rotation is not free. A rotated
@@ -713,18 +713,15 @@ def test_non_convergence_warns_and_is_reported():
 
 
 def test_converged_means_the_gradient_tolerance_was_met():
-    # KNOWN BUG (kernel/minimize.cpp): after the gradient criterion is met the callback throws
-    # nlopt::forced_stop, but NLopt keeps evaluating until L-BFGS checks its stop flag, and any
-    # later point of lower energy replaces the returned state although its gradient is above the
-    # tolerance; `converged` stays True. Found in a sweep of 210 relaxations: this case returns
-    # max |gradient| = 1.6e-7 with the tolerance at 1e-7.
+    # Regression: NLopt used to keep evaluating after the forced stop, and a later point of
+    # lower energy replaced the converged state (1.6e-7 returned against a 1e-7 tolerance).
     particle = pyfrustrate.Hexagon.from_continuum(1.0, 0.9, eps=0.01)
     top = T.bulk_with_holes("kagome")
     r = pyfrustrate.relax(particle, top, x0="linear")
     _, g = network_energy(particle, top, r.state)
     assert r.gradient_norm == pytest.approx(np.abs(g).max(), rel=1e-12)
     assert r.converged
-    assert r.gradient_norm <= 1e-5 * particle.k * particle.eps
+    assert r.gradient_norm <= 1e-5 * particle.force_scale
 
 
 @pytest.mark.parametrize("amplitude", [0.3, 3.0])
@@ -744,7 +741,7 @@ def test_wildly_deformed_start_gives_a_finite_result(amplitude, rng):
 @pytest.mark.parametrize("make", [lambda: T.disk(0), lambda: T.disk(3), lambda: T.fiber(6, 1, curved=False)],
                          ids=["single particle", "disk R=3", "straight fibre cut 1"])
 def test_lbfgs_finds_the_local_minimum_for_negative_areal_stiffness(make):
-    # KNOWN BUG (kernel/minimize.cpp): with k_area < 0 (nu < 1/3, which the phase diagrams need)
+    # Regression (kernel/minimize.cpp, fixed by eps-scaled variables): with k_area < 0 (nu < 1/3)
     # the energy is unbounded below far from the reference (the areal term ~ -|k_area| A^2 beats
     # the springs ~ k L^2 once triangles are large), so the physical state is a local minimum.
     # minimize_lbfgs multiplies the objective by 1e-4 / (tol k eps) (1e3 at the defaults and

@@ -325,7 +325,7 @@ def test_bad_topologies_raise_value_error_naming_the_parameter(make, name):
 
 
 def test_cluster_with_three_coordinates_names_sites():
-    # KNOWN BUG (minor, pyfrustrate/topology.py): cluster() reshapes its input to (-1, 2) before
+    # Regression (pyfrustrate/topology.py, fixed): cluster() reshaped its input to (-1, 2) before
     # Topology validates the shape, so a site with three coordinates gives numpy's
     # "cannot reshape array of size 3 into shape (2)", which does not name the parameter.
     with pytest.raises(ValueError, match="sites"):
