@@ -1,13 +1,5 @@
 # Comparison of pre-made aggregates (Figs. 3b, 4a, 4b, S1). Each particle's catalogue of relaxed
 # energies is computed once, by one job, and kept as a file; diagrams and figures read them.
-ANSATZ = config["ansatz"]
-DIAGRAM_NU = sorted({round(min(float(x), ANSATZ["nu_max"]), 4) for x in np.linspace(0, 1, ANSATZ["nu_count"])})
-
-
-def catalogue_file(ell, nu):
-    return f"results/ansatz/catalogue/ell{float(ell):g}_nu{float(nu):g}.npz"
-
-
 rule ansatz_catalogue:
     output:
         "results/ansatz/catalogue/ell{ell}_nu{nu}.npz",
