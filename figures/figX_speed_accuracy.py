@@ -1,0 +1,55 @@
+"""Beyond the paper: the speed/accuracy knob of `relax`, measured. Relative error of the
+relaxed energy against a tight reference, against wall time, for the linear solve, Newton with
+the factorised reference stiffness and L-BFGS (from the bulk reference or the linear solution),
+at tolerances 1e-2 ... 1e-5; one panel per aggregate and particle."""
+import csv
+from collections import defaultdict
+
+import numpy as np
+from matplotlib.ticker import NullFormatter
+
+from pyfrustrate import plotting
+from pyfrustrate.io import logging_to
+
+STYLES = {"linear": ("k", "s"), "lbfgs": ("#007e94", "o"), "lbfgs warm": ("#7b3294", "^"), "newton": ("#d3002d", "D")}
+
+
+def family(method, start):
+    if method.startswith("newton"):
+        return "newton"
+    if method.startswith("lbfgs"):
+        return "lbfgs warm" if start == "linear" else "lbfgs"
+    return "linear"
+
+
+def main(csv_path, outputs):
+    rows = [r for r in csv.DictReader(open(csv_path)) if r["diverged"] == "False"]
+    panels = defaultdict(list)
+    for r in rows:
+        panels[(r["topology"], r["nu"], r["eps"])].append(r)
+    keys = sorted(panels)
+    cols = min(2, len(keys))
+    fig = plotting.figure(14.0, 5.5 * ((len(keys) + cols - 1) // cols))
+    for n, key in enumerate(keys):
+        ax = fig.add_subplot((len(keys) + cols - 1) // cols, cols, n + 1)
+        series = defaultdict(list)
+        for r in panels[key]:
+            series[family(r["method"], r["start"])].append((float(r["t_min"]), max(float(r["rel_error"]), 1e-16)))
+        for name, points in series.items():
+            t, err = np.array(sorted(points, key=lambda p: -p[1])).T
+            color, marker = STYLES[name]
+            ax.loglog(1e3 * t, err, marker=marker, color=color, ms=3.5, lw=0.8, label=name)
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_title(rf"{key[0]}, $\nu$ = {key[1]}, $\epsilon$ = {key[2]}", fontsize=7)
+        ax.set_xlabel("time (ms)")
+        if n % cols == 0:
+            ax.set_ylabel("relative energy error")
+        if n == 0:
+            ax.legend(frameon=False, fontsize=6, loc="lower left")
+    fig.tight_layout()
+    plotting.save(fig, outputs)
+
+
+if "snakemake" in globals():
+    with logging_to(snakemake.log[0]):  # noqa: F821
+        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
