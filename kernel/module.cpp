@@ -6,10 +6,12 @@ namespace py = pybind11;
 void export_chain(py::module_& m);
 void export_topology(py::module_& m);
 void export_hexagon(py::module_& m);
+void export_montecarlo(py::module_& m);
 
 PYBIND11_MODULE(_kernel, m) {
     m.doc() = "pyfrustrate's C++ kernel (Eigen + NLopt): energies, gradients, L-BFGS and linear solves";
     export_chain(m);
     export_topology(m);
     export_hexagon(m);
+    export_montecarlo(m);
 }

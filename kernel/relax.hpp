@@ -37,30 +37,47 @@ inline std::vector<int> rigid_body_pins(const Topology& t) {
     return {0, 1, 2 * far + (std::abs(d.x()) >= std::abs(d.y()) ? 1 : 0)};
 }
 
-// The three rigid-body modes at the reference state, orthonormalised: translations of every
-// corner, and the rotation about the corners' centroid, which also turns the period vectors
-// (a curved fibre's bend is unchanged by a rotation of everything).
-inline Eigen::MatrixXd rigid_body_modes(const Topology& t) {
+// Removes the rigid-body part of a displacement from the reference state: the mean
+// translation of the corners, and a linearised rotation (of corners about their centroid and of
+// the period vectors). Which rotation is "zero" must not depend on how a scene is written down:
+// for a periodic cell it is the one that keeps the first period vector's direction (the fibre
+// axis), for a finite aggregate the least-squares rotation about the centroid. A linearised
+// rotation left in the state would be stretched by the nonlinear energy (angle squared).
+inline void remove_rigid_motion(const Topology& t, Vector& displacement) {
     const int nc = t.n_corners();
     const Vector x_ref = t.reference_state();
-    Eigen::MatrixXd P = Eigen::MatrixXd::Zero(x_ref.size(), 3);
-    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-    for (int c = 0; c < nc; ++c) centroid += t.reference[c];
-    centroid /= nc;
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero(), shift = Eigen::Vector2d::Zero();
     for (int c = 0; c < nc; ++c) {
-        P(2 * c, 0) = 1.0;
-        P(2 * c + 1, 1) = 1.0;
+        centroid += t.reference[c];
+        shift += displacement.segment<2>(2 * c);
+    }
+    centroid /= nc;
+    shift /= nc;
+    for (int c = 0; c < nc; ++c) displacement.segment<2>(2 * c) -= shift;
+
+    auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); };
+    double angle = 0;
+    if (t.periodicity == Periodicity::None) {
+        double moment = 0;
+        for (int c = 0; c < nc; ++c) {
+            const Eigen::Vector2d r = t.reference[c] - centroid;
+            angle += cross(r, displacement.segment<2>(2 * c));
+            moment += r.squaredNorm();
+        }
+        angle /= moment;
+    } else {
+        const Eigen::Vector2d axis = x_ref.segment<2>(2 * nc);
+        angle = cross(axis, displacement.segment<2>(2 * nc)) / axis.squaredNorm();
+    }
+    for (int c = 0; c < nc; ++c) {
         const Eigen::Vector2d r = t.reference[c] - centroid;
-        P(2 * c, 2) = -r.y();
-        P(2 * c + 1, 2) = r.x();
+        displacement.segment<2>(2 * c) -= angle * Eigen::Vector2d(-r.y(), r.x());
     }
     const int n_vectors = t.periodicity == Periodicity::Bulk ? 2 : (t.periodicity == Periodicity::Fiber ? 1 : 0);
     for (int v = 0; v < n_vectors; ++v) {
-        const int i = 2 * nc + 2 * v;
-        P(i, 2) = -x_ref[i + 1];
-        P(i + 1, 2) = x_ref[i];
+        const Eigen::Vector2d p = x_ref.segment<2>(2 * nc + 2 * v);
+        displacement.segment<2>(2 * nc + 2 * v) -= angle * Eigen::Vector2d(-p.y(), p.x());
     }
-    return Eigen::HouseholderQR<Eigen::MatrixXd>(P).householderQ() * Eigen::MatrixXd::Identity(x_ref.size(), 3);
 }
 
 // The stiffness of the linearised (eps -> 0) theory: the Hessian of the particles without
@@ -116,9 +133,8 @@ class ReferenceStiffness {
 
 // Linear response about the bulk reference: one Newton step with the reference stiffness,
 // driven by the mismatch forces at the reference. The pins choose one of the solutions that
-// differ by a rigid motion; the one orthogonal to the rigid modes carries no linearised
-// rotation, whose nonlinear energy (stretching by the angle squared) would depend on the
-// aggregate's orientation. The energy reported is the full nonlinear energy of that state, an
+// differ by a rigid motion; remove_rigid_motion picks the one without a linearised rotation.
+// The energy reported is the full nonlinear energy of that state, an
 // upper bound on the minimum that is exact to O(eps^4).
 template <class Model>
 Vector linear_response(const Model& model, const Topology& topology, const ReferenceStiffness& stiffness) {
@@ -127,8 +143,7 @@ Vector linear_response(const Model& model, const Topology& topology, const Refer
     Vector gradient;
     net.energy(x_ref, &gradient);
     Vector displacement = -stiffness.solve(gradient);
-    const Eigen::MatrixXd modes = rigid_body_modes(topology);
-    displacement -= modes * (modes.transpose() * displacement);
+    remove_rigid_motion(topology, displacement);
     return x_ref + displacement;
 }
 

@@ -10,6 +10,7 @@ toy model).
 from . import chain, continuum, topology
 from .particles import Hexagon
 from .relaxation import ConvergenceWarning, Relaxation, relax
+from .montecarlo import AnnealResult, anneal
 
 __version__ = "0.1.0"
-__all__ = ["chain", "continuum", "topology", "Hexagon", "relax", "Relaxation", "ConvergenceWarning"]
+__all__ = ["chain", "continuum", "topology", "Hexagon", "relax", "Relaxation", "ConvergenceWarning", "anneal", "AnnealResult"]

@@ -787,3 +787,17 @@ def test_newton_rejects_a_start_and_respects_its_cap():
     with pytest.warns(pyfrustrate.ConvergenceWarning):
         r = pyfrustrate.relax(particle, T.disk(6), method="newton", tol=1e-12, max_iter=2)
     assert not r.converged and r.iterations <= 2
+
+
+@pytest.mark.parametrize("method", ["linear", "newton"])
+def test_energy_per_particle_does_not_depend_on_how_the_cell_is_written(method):
+    """One fibre or bulk, two cells (one period vs six; one site vs six): the same energy per
+    particle, also for the linear solve, whose rigid rotation is fixed by the period vector."""
+    particle = pyfrustrate.Hexagon.from_continuum(5.0, 0.5, eps=0.01)
+    long_fibre = np.array([(i, j) for i in range(6) for j in range(8)])
+    pairs = [(T.fiber(8, 0, curved=False), T.Topology("fiber", long_fibre, "fiber", [(6, 0), (0, 0)])),
+             (T.bulk(), T.periodic([(i, j) for i in range(3) for j in range(2)], [(3, 0), (0, 2)]))]
+    for small, large in pairs:
+        e_small = pyfrustrate.relax(particle, small, method=method).energy_per_particle
+        e_large = pyfrustrate.relax(particle, large, method=method).energy_per_particle
+        assert e_large == pytest.approx(e_small, rel=1e-10)

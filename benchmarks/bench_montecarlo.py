@@ -1,0 +1,139 @@
+"""Benchmark of the Monte Carlo annealing (issue #5, main text "Monte-Carlo validation of the
+phase diagram"): 200 particles in a 60 x 60 box at ell = 5, eps = 0.01, Gamma = 0.5, for
+nu = 0.9 (fibres) and nu = 0.4 (disks).
+
+For each parameter set:
+
+1. one paper-size annealing run (``pyfrustrate.anneal`` with its defaults: linear solves, cluster
+   cache, delayed acceptance, linear schedule from T0 = g to 0): its time, final energy and
+   clusters, cache hit rate and counters;
+2. attempted moves per second from two states of the system, a mid-annealing one (a random
+   placement quenched for 200 sweeps at T = 0.6 g: many small clusters) and the final annealed
+   one (at T = 0.3 g: a few large aggregates), each from a cold cache, for:
+
+   ``full``          delayed acceptance + cache + incremental clusters (the defaults)
+   ``metropolis``    plain Metropolis + cache + incremental
+   ``no cache``      plain Metropolis, incremental, every touched cluster re-minimised
+   ``naive``         plain Metropolis, every cluster of the box re-minimised on every move
+   and the same with ``method='lbfgs'`` (warm start from the linear solution or cold from the
+   bulk reference).
+
+Ratios are printed from the same run. Rates use process CPU time (the kernel is single-threaded;
+the machine may be shared), wall time is shown too.
+
+Usage: ``python benchmarks/bench_montecarlo.py [--sweeps 10000] [--quick]``
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import _common  # noqa: E402  (pins BLAS threads before numpy is imported)
+
+import numpy as np  # noqa: E402
+
+pyfrustrate = _common.import_pyfrustrate()
+from pyfrustrate import Hexagon, _kernel, continuum  # noqa: E402
+
+BOX, N, ELL, EPS, GAMMA = 60, 200, 5.0, 0.01, 0.5
+
+MODES = {
+    # name: (method, delayed_acceptance, cache, warm_start, incremental)
+    "full": ("linear", True, True, True, True),
+    "metropolis": ("linear", False, True, True, True),
+    "no cache": ("linear", False, False, True, True),
+    "naive": ("linear", False, False, True, False),
+    "lbfgs full": ("lbfgs", True, True, True, True),
+    "lbfgs metropolis": ("lbfgs", False, True, True, True),
+    "lbfgs no cache": ("lbfgs", False, False, True, True),
+    "lbfgs no cache, cold": ("lbfgs", False, False, False, True),
+    "lbfgs naive": ("lbfgs", False, False, True, False),
+}
+
+
+def make(particle, g, seed, method, delayed, cache, warm, incremental):
+    return _kernel.MonteCarlo(particle._kernel_model, g, BOX, N, seed, method=method,
+                              tol=1e-5 * particle.force_scale, cache=cache, warm_start=warm,
+                              incremental=incremental, delayed_acceptance=delayed,
+                              bond_deformation=particle.bulk_energy_per_particle / 3)
+
+
+def rate(particle, g, sites, T, mode, budget, min_moves, max_moves):
+    """Attempted moves per CPU second from ``sites`` at temperature ``T`` (cold cache)."""
+    mc = make(particle, g, 12345, *MODES[mode])
+    mc.place(sites)
+    c0 = mc.counters
+    cpu, wall, moves, block = time.process_time(), time.perf_counter(), 0, 10
+    while moves < max_moves:
+        mc.run(np.array([T]), np.array([block]))
+        moves += block
+        spent = time.process_time() - cpu
+        if moves >= min_moves and spent >= budget:
+            break
+        block = int(min(max(10, block * 2), max_moves - moves)) or 1
+    spent, wall = time.process_time() - cpu, time.perf_counter() - wall
+    c = mc.counters
+    hits, misses = c["cache_hits"] - c0["cache_hits"], c["cache_misses"] - c0["cache_misses"]
+    return dict(moves=moves, cpu=spent, wall=wall, rate=moves / spent,
+                minimisations=(c["minimisations"] - c0["minimisations"]) / moves,
+                hit_rate=hits / (hits + misses) if hits + misses else float("nan"))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--sweeps", type=int, default=10_000, help="sweeps (n moves each) of the paper-size run")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--budget", type=float, default=2.0, help="CPU seconds per rate measurement")
+    ap.add_argument("--quick", action="store_true", help="short run and measurements (smoke test)")
+    args = ap.parse_args(argv)
+    if args.quick:
+        args.sweeps, args.budget = 500, 0.3
+    print(f"{_common.machine_line()}\n{_common.source_line()}")
+    print(f"Monte Carlo benchmark: {N} particles in {BOX} x {BOX}, ell = {ELL}, eps = {EPS}, Gamma = {GAMMA}; "
+          f"paper-size run of {args.sweeps} sweeps ({args.sweeps * N:,} attempted moves)")
+    for nu in (0.9, 0.4):
+        particle = Hexagon.from_continuum(ell=ELL, nu=nu, eps=EPS)
+        g = float(continuum.particle_parameters(ELL, nu, GAMMA, eps=EPS).g)
+        print(f"\n=== nu = {nu}, Gamma = {GAMMA}: g = {g:.5g}, bulk deformation per particle = "
+              f"{particle.bulk_energy_per_particle:.4g}")
+        cpu, wall = time.process_time(), time.perf_counter()
+        res = pyfrustrate.anneal(particle, g, box=BOX, n=N, steps=args.sweeps * N, seed=args.seed, progress=False)
+        cpu, wall = time.process_time() - cpu, time.perf_counter() - wall
+        c = res.counters
+        sizes = [len(x) for x in res.clusters()]
+        print(f"paper-size run: {cpu:.1f} s CPU ({wall:.1f} s wall), {args.sweeps * N / cpu:,.0f} moves/s; "
+              f"E = {res.energy:.5g}, {res.bonds} bonds; clusters {sizes[:8]}{' ...' if len(sizes) > 8 else ''}")
+        print(f"  acceptance by tenth of the run {np.round(res.stage_acceptance, 3).tolist()}")
+        print(f"  screened {c['screened'] / c['attempted']:.3f} of moves; cache hit rate {res.cache_hit_rate:.3f} "
+              f"({c['cache_hits']:,} hits, {c['cache_misses']:,} misses); {c['minimisations']:,} minimisations "
+              f"({c['minimisations'] / c['attempted']:.4f} per move)")
+
+        mid = make(particle, g, args.seed + 1, *MODES["full"])
+        mid.run(np.array([0.6 * g]), np.array([200 * N]))
+        states = {"mid (T=0.6g)": (mid.particles, 0.6 * g), "final (T=0.3g)": (res.sites, 0.3 * g)}
+        for label, (sites, T) in states.items():
+            n_clusters = len(pyfrustrate.montecarlo.clusters(sites, BOX))
+            print(f"\n  moves/s from the {label} state ({n_clusters} clusters, largest "
+                  f"{len(pyfrustrate.montecarlo.clusters(sites, BOX)[0][0])}), cold cache:")
+            print(f"  {'mode':22s} {'moves':>8s} {'CPU s':>7s} {'moves/s':>10s} {'min./move':>10s} {'hit rate':>8s}")
+            rates = {}
+            for mode in MODES:
+                slow = MODES[mode][4] is False or (MODES[mode][2] is False and MODES[mode][0] == "lbfgs")
+                r = rate(particle, g, sites, T, mode, args.budget, min_moves=20 if slow else 200,
+                         max_moves=2_000 if slow else 400_000)
+                rates[mode] = r["rate"]
+                print(f"  {mode:22s} {r['moves']:8d} {r['cpu']:7.2f} {r['rate']:10.0f} {r['minimisations']:10.4f} "
+                      f"{r['hit_rate']:8.3f}")
+            print(f"  ratios: full/naive {rates['full'] / rates['naive']:.0f}x, full/no cache "
+                  f"{rates['full'] / rates['no cache']:.0f}x, metropolis(cache)/no cache "
+                  f"{rates['metropolis'] / rates['no cache']:.1f}x, delayed acceptance/metropolis "
+                  f"{rates['full'] / rates['metropolis']:.1f}x, no cache/naive {rates['no cache'] / rates['naive']:.1f}x; "
+                  f"lbfgs full/naive {rates['lbfgs full'] / rates['lbfgs naive']:.0f}x, lbfgs warm/cold "
+                  f"{rates['lbfgs no cache'] / rates['lbfgs no cache, cold']:.1f}x")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,176 @@
+// Bindings of the Monte Carlo annealing (montecarlo.hpp) for the hexagonal particle.
+#include "hexagon.hpp"
+#include "montecarlo.hpp"
+
+#include <pybind11/numpy.h>
+#include <cmath>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+namespace py = pybind11;
+using namespace pyfrustrate;
+
+namespace {
+
+using HexagonMC = MonteCarlo<HexagonModel>;
+using IntArray = py::array_t<int, py::array::c_style | py::array::forcecast>;
+
+std::vector<LatticeVector> site_list(const IntArray& sites) {
+    if (sites.ndim() != 2 || sites.shape(1) != 2) throw std::invalid_argument("sites must be an integer array of shape (n, 2)");
+    std::vector<LatticeVector> out(sites.shape(0));
+    auto r = sites.unchecked<2>();
+    for (py::ssize_t k = 0; k < sites.shape(0); ++k) out[k] = {r(k, 0), r(k, 1)};
+    return out;
+}
+
+py::dict counters_dict(const MonteCarloCounters& c) {
+    py::dict d;
+    d["attempted"] = c.attempted;
+    d["accepted"] = c.accepted;
+    d["screened"] = c.screened;
+    d["cache_hits"] = c.cache_hits;
+    d["cache_misses"] = c.cache_misses;
+    d["cache_clears"] = c.cache_clears;
+    d["minimisations"] = c.relax.minimisations;
+    d["evaluations"] = c.relax.evaluations;
+    d["fallbacks"] = c.relax.fallbacks;
+    d["unconverged"] = c.relax.unconverged;
+    return d;
+}
+
+}  // namespace
+
+void export_montecarlo(py::module_& m) {
+    py::class_<HexagonMC>(m, "MonteCarlo",
+                          "Metropolis Monte Carlo on the topology of N hexagons in a periodic L x L box of the "
+                          "triangular lattice (main text, 'Monte-Carlo validation of the phase diagram'). Energy = "
+                          "sum over clusters of -g * bonds + relaxed deformation energy; relaxed energies are cached "
+                          "by shape up to translations and D3.")
+        .def(py::init([](const HexagonModel& model, double g, int box, int n, std::uint64_t seed, const std::string& method,
+                         double tol, int max_iter, bool cache, bool warm_start, bool incremental, std::size_t cache_limit,
+                         bool delayed_acceptance, double bond_deformation) {
+                 MonteCarloOptions o;
+                 if (method == "linear") o.relax.method = RelaxMethod::Linear;
+                 else if (method == "lbfgs") o.relax.method = RelaxMethod::Lbfgs;
+                 else if (method == "newton") o.relax.method = RelaxMethod::Newton;
+                 else throw std::invalid_argument("method must be 'linear', 'lbfgs' or 'newton', got '" + method + "'");
+                 if (!(tol > 0)) throw std::invalid_argument("tol must be positive");
+                 if (max_iter < 1) throw std::invalid_argument("max_iter must be at least 1");
+                 o.relax.minimize.gradient_tolerance = tol;
+                 o.relax.minimize.max_iterations = max_iter;
+                 o.relax.minimize.step_scale = model.step_scale();
+                 o.relax.warm_start = warm_start;
+                 o.cache = cache;
+                 o.incremental = incremental;
+                 o.cache_limit = cache_limit;
+                 if (!std::isfinite(bond_deformation)) throw std::invalid_argument("bond_deformation must be finite");
+                 o.delayed_acceptance = delayed_acceptance;
+                 o.bond_deformation = bond_deformation;
+                 return new HexagonMC(model, g, box, n, seed, o);
+             }),
+             py::arg("model"), py::arg("g"), py::arg("box"), py::arg("n"), py::arg("seed"), py::arg("method") = "linear",
+             py::arg("tol") = 1e-7, py::arg("max_iter") = 100000, py::arg("cache") = true, py::arg("warm_start") = true,
+             py::arg("incremental") = true, py::arg("cache_limit") = std::size_t(1) << 24,
+             py::arg("delayed_acceptance") = true, py::arg("bond_deformation") = 0.0,
+             "Random initial placement drawn from the seeded std::mt19937_64. tol is the absolute L-BFGS gradient "
+             "tolerance (NLopt works in units of the model's step_scale); cache_limit the stored key entries before the cache is cleared; delayed_acceptance screens "
+             "moves with the surrogate energy -(g - bond_deformation) * bonds before relaxing anything (same "
+             "Boltzmann distribution); incremental=False re-minimises every cluster of the box on every move.")
+        .def(
+            "run",
+            [](HexagonMC& mc, py::array_t<double, py::array::c_style | py::array::forcecast> temperatures,
+               py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> steps, bool record_sites) {
+                if (temperatures.ndim() != 1 || steps.ndim() != 1 || temperatures.shape(0) != steps.shape(0))
+                    throw std::invalid_argument("temperatures and steps must be 1D arrays of equal length");
+                const py::ssize_t blocks = temperatures.shape(0);
+                auto T = temperatures.unchecked<1>();
+                auto S = steps.unchecked<1>();
+                for (py::ssize_t k = 0; k < blocks; ++k) {
+                    if (!(T(k) >= 0) || !std::isfinite(T(k)))
+                        throw std::invalid_argument("temperatures must be non-negative and finite");
+                    if (S(k) < 0) throw std::invalid_argument("steps must be non-negative");
+                }
+                py::array_t<double> energy(blocks);
+                py::array_t<std::int64_t> accepted(blocks);
+                py::array_t<int> sites(std::vector<py::ssize_t>{record_sites ? blocks : 0, mc.n()});
+                auto E = energy.mutable_unchecked<1>();
+                auto A = accepted.mutable_unchecked<1>();
+                auto W = sites.mutable_unchecked<2>();
+                {
+                    py::gil_scoped_release release;
+                    std::vector<int> sorted;
+                    for (py::ssize_t k = 0; k < blocks; ++k) {
+                        A(k) = mc.run(T(k), S(k));
+                        E(k) = mc.energy();
+                        if (!record_sites) continue;
+                        sorted = mc.particles();
+                        std::sort(sorted.begin(), sorted.end());
+                        for (int p = 0; p < mc.n(); ++p) W(k, p) = sorted[p];
+                    }
+                }
+                py::dict d;
+                d["energy"] = energy;
+                d["accepted"] = accepted;
+                if (record_sites) d["sites"] = sites;
+                return d;
+            },
+            py::arg("temperatures"), py::arg("steps"), py::arg("record_sites") = false,
+            "Runs blocks of steps[k] attempted moves at temperatures[k] (GIL released). Returns a dict: energy (B,) "
+            "after each block, accepted (B,) moves per block, and with record_sites the sorted occupied site indices "
+            "(B, n) (site index i + L j) after each block.")
+        .def("step", &HexagonMC::step, py::arg("T"), "One attempted move; True if accepted.")
+        .def_property_readonly("energy", &HexagonMC::energy, "Running energy: -g * bonds + deformation.")
+        .def_property_readonly("deformation", &HexagonMC::deformation, "Running sum of relaxed deformation energies.")
+        .def_property_readonly("bonds", &HexagonMC::bonds, "Bound pairs of sides in the box.")
+        .def_property_readonly("g", &HexagonMC::g)
+        .def_property_readonly("n", &HexagonMC::n)
+        .def_property_readonly("box", [](const HexagonMC& mc) { return mc.box().L; })
+        .def("box_energy", &HexagonMC::box_energy, py::arg("canonical") = true,
+             "Energy recomputed from scratch over every cluster, without the cache (canonical=False: from the "
+             "sites as they lie, not from the canonical representative of each shape).")
+        .def_property_readonly(
+            "particles",
+            [](const HexagonMC& mc) {
+                py::array_t<int> a(std::vector<py::ssize_t>{mc.n(), 2});
+                auto w = a.mutable_unchecked<2>();
+                for (int p = 0; p < mc.n(); ++p) {
+                    const LatticeVector c = mc.box().coords(mc.particles()[p]);
+                    w(p, 0) = c[0], w(p, 1) = c[1];
+                }
+                return a;
+            },
+            "(n, 2) lattice coordinates (0 <= i, j < box) of each particle, in particle order.")
+        .def("place", [](HexagonMC& mc, const IntArray& sites) { mc.place(site_list(sites)); }, py::arg("sites"),
+             "Puts particle p on sites[p] (shape (n, 2), reduced modulo the box); energy from scratch.")
+        .def_property("rng_state", &HexagonMC::rng_state, &HexagonMC::set_rng_state,
+                      "State of the std::mt19937_64 as its stream representation.")
+        .def("set_deformation", &HexagonMC::set_deformation, py::arg("deformation"),
+             "Overrides the running deformation sum (exact resumption from a checkpoint).")
+        .def_property(
+            "counters", [](const HexagonMC& mc) { return counters_dict(mc.counters); },
+            [](HexagonMC& mc, const py::dict& d) {
+                auto get = [&](const char* k) { return d.contains(k) ? d[k].cast<std::int64_t>() : std::int64_t(0); };
+                MonteCarloCounters& c = mc.counters;
+                c.attempted = get("attempted"), c.accepted = get("accepted"), c.screened = get("screened");
+                c.cache_hits = get("cache_hits"), c.cache_misses = get("cache_misses"), c.cache_clears = get("cache_clears");
+                c.relax.minimisations = get("minimisations"), c.relax.evaluations = get("evaluations");
+                c.relax.fallbacks = get("fallbacks"), c.relax.unconverged = get("unconverged");
+            },
+            "attempted, accepted, screened (rejected by the surrogate), cache_hits, cache_misses, cache_clears, minimisations, evaluations (energy+gradient "
+            "evaluations, 1 per linear solve), fallbacks (linear solve refused, done by L-BFGS), unconverged.")
+        .def_property_readonly("cache_size", &HexagonMC::cache_size)
+        .def("clear_cache", &HexagonMC::clear_cache);
+
+    m.def(
+        "shape_key",
+        [](const IntArray& sites) {
+            std::vector<LatticeVector> canonical;
+            const ShapeKey key = finite_shape_key(site_list(sites), &canonical);
+            py::array_t<int> a(std::vector<py::ssize_t>{static_cast<py::ssize_t>(canonical.size()), 2});
+            auto w = a.mutable_unchecked<2>();
+            for (std::size_t k = 0; k < canonical.size(); ++k) w(k, 0) = canonical[k][0], w(k, 1) = canonical[k][1];
+            return py::make_tuple(py::tuple(py::cast(key)), a);
+        },
+        py::arg("sites"),
+        "Canonical key of a finite cluster up to translations and D3 (tuple of ints) and its canonical sites (n, 2).");
+}

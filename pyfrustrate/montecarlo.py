@@ -1,0 +1,549 @@
+"""Monte Carlo annealing of aggregate topologies (main text, "Monte-Carlo validation of the phase
+diagram"; the snapshots of Fig. 3b).
+
+``n`` particles occupy distinct sites of a periodic ``box x box`` patch of the triangular lattice
+(site ``(i, j)`` at ``i a1 + j a2``, ``i, j`` modulo ``box``). A move takes a random particle to a
+random empty site; the energy of a configuration is a sum over its connected clusters,
+
+    E = sum over clusters of [ -g * bonds + relaxed deformation energy ],
+
+the deformation energy being minimised at fixed topology before the Metropolis test, so the
+temperature acts on the topology only. Simulated annealing lowers ``T`` to zero.
+
+By default each move is first screened with the bond count alone (delayed acceptance,
+Christen & Fox 2005: surrogate energy ``-(g - e_b/3) * bonds``), and clusters are relaxed only
+for the moves that pass; the second stage accepts with the ratio of the true to the surrogate
+Boltzmann factors. The chain samples exactly ``exp(-E/T)`` at every temperature, like plain
+Metropolis (``delayed_acceptance=False``), with most relaxations skipped at low ``T``.
+
+The kernel (``kernel/montecarlo.hpp``) recomputes only the clusters a move leaves and joins and
+caches relaxed energies by shape up to translations and the particle's point group D3 (the
+colour-preserving rotations by 120 degrees and mirrors; not the 60-degree rotations, which swap
+the yellow and red corners). Each shape's energy is computed from its canonical representative,
+so results do not depend on the cache. Clusters that wrap around the box are relaxed as periodic
+aggregates (a straight fibre if they wrap in one direction, a bulk cell if in two) with free
+period vectors: the box stands for an infinite system.
+
+Units: energies (``g``, temperatures, traces) are those of the particle's springs (``k``, lengths
+in lattice spacings). ``continuum.particle_parameters(ell, nu, Gamma, eps=...)`` gives the ``g``
+of a dimensionless line tension ``Gamma``.
+
+Schedules (``schedule=``), temperatures in energy units:
+
+``"linear"``     ``T = T0 (1 - x)``, ``x`` the fraction of the run (0 on the first record block,
+                 1 on the last), so the run ends at ``T = 0``.
+``"geometric"``  ``T = T0 (T_end / T0)**y`` from ``T0`` on the first block to ``T_end`` on the
+                 last but one (``y`` from 0 to 1), and ``T = 0`` on the last block.
+callable         ``T = schedule(x)``, evaluated once per record block.
+stages           a sequence of ``(T, n_steps)`` pairs, run in order (``steps`` is then their sum).
+
+``T0`` defaults to ``g`` (the energy of one bond), or to the particle's bulk deformation energy per
+particle when ``g = 0``. A record block is ``record_every`` attempted moves (default one sweep,
+``n`` moves): the temperature is constant over a block and the energy is recorded after it.
+"""
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import pickle
+import secrets
+import tempfile
+import time
+from dataclasses import dataclass, field
+from numbers import Integral
+
+import numpy as np
+
+from . import _kernel
+from .relaxation import METHODS
+from .topology import NEIGHBOURS, site_positions
+
+__all__ = ["anneal", "AnnealResult", "draw_snapshot", "clusters", "SCHEDULES"]
+
+SCHEDULES = ("linear", "geometric")
+_CHECKPOINT_VERSION = 1
+_CONTINUOUS_STAGES = 10  # acceptance is reported over tenths of a run without explicit stages
+# Default length of a run, in sweeps of n attempted moves: at the paper's sizes (200 particles in
+# 60 x 60, ell = 5) the linear schedule from T0 = g then ends in aggregates that no longer change
+# over the last 30% of the run (acceptance < 1e-3), in about 15 s of one core
+# (benchmarks/bench_montecarlo.py).
+DEFAULT_SWEEPS = 10_000
+
+
+@dataclass
+class AnnealResult:
+    """Outcome of ``anneal``.
+
+    Attributes
+    ----------
+    sites : ndarray, shape (n, 2), int
+        Final lattice coordinates ``0 <= i, j < box`` of each particle (particle order).
+    box, n : int
+    g : float
+        Binding energy per bound pair of sides.
+    energy : float
+        Final energy ``-g * bonds + deformation`` (running sum of the accepted moves).
+    bonds : int
+        Bound pairs of sides at the end.
+    deformation : float
+        Sum of the relaxed deformation energies of the final clusters.
+    steps : ndarray, shape (B,), int
+        Attempted moves done at the end of each record block.
+    temperature : ndarray, shape (B,)
+        Temperature of each record block.
+    energy_trace : ndarray, shape (B,)
+        Energy after each record block.
+    accepted : ndarray, shape (B,), int
+        Accepted moves in each record block.
+    stage_acceptance : ndarray, shape (S,)
+        Acceptance rate of each stage (the given stages, or tenths of the run).
+    acceptance : float
+        Overall acceptance rate.
+    counters : dict
+        Kernel counters: ``attempted, accepted, screened`` (identical on resumption) and ``cache_hits,
+        cache_misses, cache_clears, minimisations, evaluations, fallbacks, unconverged`` (these
+        depend on the cache, which a checkpoint does not save).
+    seed : int
+    params : dict
+        Everything that defines the run (particle, g, box, n, method, tol, schedule, ...).
+    elapsed : float
+        Wall time of this call, seconds.
+    resumed : bool
+        Whether the run started from a checkpoint.
+    """
+
+    sites: np.ndarray = field(repr=False)
+    box: int
+    n: int
+    g: float
+    energy: float
+    bonds: int
+    deformation: float
+    steps: np.ndarray = field(repr=False)
+    temperature: np.ndarray = field(repr=False)
+    energy_trace: np.ndarray = field(repr=False)
+    accepted: np.ndarray = field(repr=False)
+    stage_acceptance: np.ndarray = field(repr=False)
+    acceptance: float
+    counters: dict
+    seed: int
+    params: dict = field(repr=False)
+    elapsed: float = 0.0
+    resumed: bool = False
+
+    @property
+    def cache_hit_rate(self) -> float:
+        """Fraction of cluster energies taken from the cache (isolated particles excluded)."""
+        c = self.counters
+        total = c["cache_hits"] + c["cache_misses"]
+        return c["cache_hits"] / total if total else float("nan")
+
+    def clusters(self) -> list[np.ndarray]:
+        """Final clusters, largest first: unwrapped lattice coordinates, each shape (k, 2)."""
+        return [c for c, _ in clusters(self.sites, self.box)]
+
+
+# ---------------------------------------------------------------------------------------------
+# Validation and schedule
+# ---------------------------------------------------------------------------------------------
+
+def _integer(name, value, lo, hi=None):
+    if isinstance(value, bool) or not isinstance(value, Integral):
+        raise ValueError(f"{name} must be an integer, got {value!r}")
+    value = int(value)
+    if value < lo or (hi is not None and value > hi):
+        bound = f">= {lo}" if hi is None else f"in [{lo}, {hi}]"
+        raise ValueError(f"{name} must be {bound}, got {value}")
+    return value
+
+
+def _temperature(name, value):
+    try:
+        t = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    if not math.isfinite(t) or t < 0:
+        raise ValueError(f"{name} must be a non-negative finite temperature, got {value!r}")
+    return t
+
+
+def _plan(steps, schedule, T0, T_end, record_every):
+    """Record blocks: temperatures (B,), attempted moves (B,), stage index (B,), stage count."""
+    if isinstance(schedule, str) or callable(schedule):
+        if steps is None:
+            raise ValueError("steps must be given with a continuous schedule")
+        steps = _integer("steps", steps, 1)
+        n_blocks = -(-steps // record_every)
+        block_steps = np.full(n_blocks, record_every, dtype=np.int64)
+        block_steps[-1] = steps - record_every * (n_blocks - 1)
+        x = np.arange(n_blocks) / (n_blocks - 1) if n_blocks > 1 else np.ones(1)
+        if isinstance(schedule, str):
+            if schedule == "linear":
+                temps = T0 * (1.0 - x)
+            elif schedule == "geometric":
+                if T_end is None:
+                    T_end = 1e-3 * T0
+                T_end = _temperature("T_end", T_end)
+                if not (0 < T_end <= T0):
+                    raise ValueError(f"T_end must lie in (0, T0] for a geometric schedule, got {T_end!r}")
+                xg = np.arange(n_blocks) / max(n_blocks - 2, 1)
+                temps = T0 * (T_end / T0) ** xg if T0 > 0 else np.zeros(n_blocks)
+                temps[-1] = 0.0
+            else:
+                raise ValueError(f"schedule must be one of {SCHEDULES}, a callable or a sequence of (T, steps) "
+                                 f"stages, got {schedule!r}")
+        else:
+            temps = np.array([_temperature("schedule(x)", schedule(float(xi))) for xi in x])
+        stage = np.minimum(_CONTINUOUS_STAGES * np.arange(n_blocks) // max(n_blocks, 1), _CONTINUOUS_STAGES - 1)
+        return temps.astype(float), block_steps, stage, _CONTINUOUS_STAGES
+    try:
+        stages = [(s[0], s[1]) for s in schedule]
+    except (TypeError, IndexError, KeyError):
+        raise ValueError("schedule must be 'linear', 'geometric', a callable or a sequence of (T, steps) "
+                         f"stages, got {schedule!r}") from None
+    if not stages:
+        raise ValueError("schedule: the sequence of stages is empty")
+    temps, block_steps, stage_index = [], [], []
+    for k, (t, m) in enumerate(stages):
+        t = _temperature(f"schedule: temperature of stage {k}", t)
+        m = _integer(f"schedule: steps of stage {k}", m, 1)
+        full, rest = divmod(m, record_every)
+        chunks = [record_every] * full + ([rest] if rest else [])
+        temps += [t] * len(chunks)
+        block_steps += chunks
+        stage_index += [k] * len(chunks)
+    total = int(sum(block_steps))
+    if steps is not None and _integer("steps", steps, 1) != total:
+        raise ValueError(f"steps ({steps}) disagrees with the stages of schedule (total {total}); leave steps=None")
+    return np.array(temps, float), np.array(block_steps, np.int64), np.array(stage_index), len(stages)
+
+
+def _schedule_description(schedule):
+    if isinstance(schedule, str):
+        return schedule
+    if callable(schedule):
+        return getattr(schedule, "__name__", "callable")
+    return [(float(t), int(m)) for t, m in schedule]
+
+
+# ---------------------------------------------------------------------------------------------
+# Checkpoints
+# ---------------------------------------------------------------------------------------------
+
+def _write_atomically(path, data):
+    """Pickle ``data`` to a temporary file beside ``path``, then rename it over ``path``."""
+    directory = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=directory, prefix=os.path.basename(path) + ".", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            pickle.dump(data, f, protocol=4)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def _read_checkpoint(path, signature):
+    with open(path, "rb") as f:
+        data = pickle.load(f)
+    if not isinstance(data, dict) or data.get("version") != _CHECKPOINT_VERSION:
+        raise ValueError(f"checkpoint: {path} is not a pyfrustrate.anneal checkpoint (version {_CHECKPOINT_VERSION})")
+    saved = data["signature"]
+    differ = sorted(k for k in set(saved) | set(signature) if saved.get(k) != signature.get(k))
+    if differ:
+        raise ValueError(f"checkpoint: {path} was written by a run with different parameters ({', '.join(differ)}); "
+                         "delete it or pass another path")
+    return data
+
+
+# ---------------------------------------------------------------------------------------------
+# The annealing
+# ---------------------------------------------------------------------------------------------
+
+def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None, method="lbfgs", tol=1e-3,
+           checkpoint=None, progress=True, *, T0=None, T_end=None, record_every=None, checkpoint_interval=60.0,
+           cache=True, warm_start=True, delayed_acceptance=True, max_iter=100_000,
+           callback=None) -> AnnealResult:
+    """Simulated annealing of the topology of ``n`` particles in a periodic ``box x box`` lattice.
+
+    Parameters
+    ----------
+    particle : Hexagon
+    g : float
+        Binding energy per bound pair of sides (>= 0), in the units of the particle's springs.
+    box : int
+        Box side in lattice sites (>= 2). The paper: 60 (200 particles) and 30 (300 particles).
+    n : int
+        Number of particles, ``1 <= n < box**2``.
+    steps : int
+        Attempted moves in all (with a continuous schedule). Default ``DEFAULT_SWEEPS * n``
+        (10000 sweeps).
+    schedule : "linear", "geometric", callable or sequence of (T, steps)
+        Temperature schedule (module docstring).
+    seed : int or None
+        Seed of the kernel's ``std::mt19937_64`` (``0 <= seed < 2**64``); None draws one, which the
+        result records.
+    method : {"lbfgs", "newton", "linear"}
+        Cluster relaxation. ``"lbfgs"`` (default): the relaxed energy, to ``tol``, by L-BFGS
+        warm-started from the linear solution (``warm_start=False``: from the bulk reference);
+        ``"newton"``: the same minimum by Newton steps with the factorised reference stiffness
+        (slower here: loosely bound clusters make them stall); ``"linear"``: the linearised solve
+        alone, about 4x faster but biased upwards for loosely bound clusters (final box
+        energies off by ~2 % at eps = 0.01, ell = 5).
+    tol : float
+        Relaxation tolerance, relative as in ``relax``: max gradient <= ``tol * particle.force_scale``.
+        The default 1e-3 leaves relative energy errors near 1e-6 (benchmarks/bench_tradeoff.py),
+        far below what changes a Metropolis decision: a 1000-sweep run at ell = 5, nu = 0.9 takes
+        the same moves as at tol = 1e-5, 3.8x faster.
+    checkpoint : path or None
+        File to resume from if it exists (same parameters required) and to save to every
+        ``checkpoint_interval`` seconds, on interruption (KeyboardInterrupt or any exception, the
+        last completed chunk is saved) and at the end. Written atomically (temporary file in the
+        same directory, then ``os.replace``). The cluster cache is not saved: it only affects
+        speed. A finished checkpoint is returned as is.
+    progress : bool
+        Show a tqdm progress bar.
+    T0, T_end : float
+        Start temperature (default ``g``) and the geometric schedule's last non-zero one
+        (default ``T0 / 1000``).
+    record_every : int
+        Attempted moves per record block (default ``n``, one sweep).
+    cache, warm_start : bool
+        Cluster-energy cache and warm starts (speed knobs; ``warm_start`` changes L-BFGS minima
+        within the tolerance, so it is part of a checkpoint's parameters, ``cache`` is not).
+    delayed_acceptance : bool
+        Screen each move first with the surrogate energy ``-(g - e_b/3) * bonds`` (``e_b`` the
+        particle's bulk deformation energy per particle), relaxing clusters only for moves that
+        pass, then accept with the ratio of the true to the surrogate Boltzmann factors
+        (delayed-acceptance Metropolis-Hastings, Christen & Fox 2005). The chain samples exactly
+        the same Boltzmann distribution at every temperature as plain Metropolis (``False``) and
+        skips most relaxations at low T; its moves are accepted somewhat less often.
+    max_iter : int
+        Cap on energy evaluations per L-BFGS relaxation.
+    callback : callable or None
+        Called after every chunk of blocks as ``callback(steps_done, total_steps, energy)``; an
+        exception raised there stops the run after saving the checkpoint.
+
+    Returns
+    -------
+    AnnealResult
+
+    Bad input raises ``ValueError`` naming the parameter.
+    """
+    model = getattr(particle, "_kernel_model", None)
+    if model is None:
+        raise ValueError(f"particle must be a pyfrustrate particle (e.g. Hexagon), got {particle!r}")
+    box = _integer("box", box, 2, 30000)
+    n = _integer("n", n, 1)
+    if n >= box * box:
+        raise ValueError(f"n must be smaller than box**2 = {box * box} (a move needs an empty site), got {n}")
+    try:
+        g = float(g)
+    except (TypeError, ValueError):
+        raise ValueError(f"g must be a number, got {g!r}") from None
+    if not math.isfinite(g) or g < 0:
+        raise ValueError(f"g must be non-negative and finite, got {g!r}")
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
+        raise ValueError(f"tol must be positive, got {tol!r}")
+    if seed is None:
+        seed = secrets.randbits(63)
+    seed = _integer("seed", seed, 0, 2**64 - 1)
+    record_every = n if record_every is None else _integer("record_every", record_every, 1)
+    if T0 is None:
+        T0 = g if g > 0 else particle.bulk_energy_per_particle
+    T0 = _temperature("T0", T0)
+    if steps is None and (isinstance(schedule, str) or callable(schedule)):
+        steps = DEFAULT_SWEEPS * n
+    max_iter = _integer("max_iter", max_iter, 1)
+    temps, block_steps, stage_of_block, n_stages = _plan(steps, schedule, T0, T_end, record_every)
+    total_steps = int(block_steps.sum())
+    cum_steps = np.cumsum(block_steps)
+
+    particle_params = {k: float(getattr(particle, k)) for k in ("k", "kc", "k_area", "eps")}
+    plan_digest = hashlib.sha256(temps.tobytes() + block_steps.tobytes()).hexdigest()
+    bond_deformation = float(particle.bulk_energy_per_particle) / 3.0
+    signature = dict(particle=particle_params, g=g, box=box, n=n, seed=seed, method=method, tol=float(tol),
+                     max_iter=max_iter, warm_start=bool(warm_start), delayed_acceptance=bool(delayed_acceptance),
+                     plan=plan_digest)
+    params = dict(signature, particle_type=type(particle).__name__, schedule=_schedule_description(schedule),
+                  T0=T0, T_end=T_end, steps=total_steps, record_every=record_every, cache=bool(cache),
+                  bond_deformation=bond_deformation)
+
+    mc = _kernel.MonteCarlo(model, g, box, n, seed, method=method, tol=float(tol) * particle.force_scale,
+                            max_iter=max_iter, cache=bool(cache), warm_start=bool(warm_start),
+                            delayed_acceptance=bool(delayed_acceptance), bond_deformation=bond_deformation)
+    energies, accepted = [], []
+    done, elapsed_before, resumed = 0, 0.0, False
+    if checkpoint is not None and os.path.exists(checkpoint):
+        data = _read_checkpoint(checkpoint, signature)
+        mc.place(data["particles"])
+        mc.rng_state = data["rng_state"]
+        mc.set_deformation(data["deformation"])
+        mc.counters = data["counters"]
+        energies, accepted = list(data["energy_trace"]), list(data["accepted"])
+        done, elapsed_before, resumed = data["done"], data["elapsed"], True
+
+    start = time.perf_counter()
+
+    def snapshot():
+        return dict(done=done, particles=np.asarray(mc.particles), rng_state=mc.rng_state,
+                    deformation=mc.deformation, counters=mc.counters,
+                    elapsed=elapsed_before + time.perf_counter() - start)
+
+    def save(state, complete=False):
+        d = state["done"]
+        _write_atomically(checkpoint, dict(state, version=_CHECKPOINT_VERSION, signature=signature, params=params,
+                                           energy_trace=np.asarray(energies[:d]), accepted=np.asarray(accepted[:d]),
+                                           complete=complete))
+
+    last = snapshot()
+    if done < len(temps):
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=total_steps, initial=int(cum_steps[done - 1]) if done else 0, disable=not progress,
+                   unit="move", unit_scale=True, desc=f"anneal n={n} box={box}", leave=False)
+        last_save, chunk = time.monotonic(), 1
+        try:
+            while done < len(temps):
+                lo, hi = done, min(len(temps), done + chunk)
+                t = time.perf_counter()
+                out = mc.run(temps[lo:hi], block_steps[lo:hi])
+                dt = time.perf_counter() - t
+                energies.extend(out["energy"].tolist())
+                accepted.extend(out["accepted"].tolist())
+                done = hi
+                last = snapshot()
+                moves = int(block_steps[lo:hi].sum())
+                bar.update(moves)
+                rate = float(np.sum(out["accepted"])) / max(1, moves)
+                bar.set_postfix(T=f"{temps[hi - 1]:.3g}", E=f"{energies[-1]:.5g}", acc=f"{rate:.3f}", refresh=False)
+                # Chunks of about half a second and at most 1% of the run: prompt progress and
+                # interruption. (Chunking does not change the chain.)
+                chunk = int(min(max(1, chunk * 0.5 / max(dt, 1e-3)), 2 * chunk + 1, max(1, len(temps) // 100)))
+                if checkpoint is not None and time.monotonic() - last_save >= checkpoint_interval:
+                    save(last)
+                    last_save = time.monotonic()
+                if callback is not None:
+                    callback(int(cum_steps[done - 1]), total_steps, energies[-1])
+        except BaseException:
+            if checkpoint is not None:
+                save(last)
+            raise
+        finally:
+            bar.close()
+    if checkpoint is not None:
+        save(last, complete=True)
+
+    energies, accepted = np.asarray(energies, float), np.asarray(accepted, np.int64)
+    stage_attempted = np.bincount(stage_of_block, weights=block_steps, minlength=n_stages)
+    stage_accepted = np.bincount(stage_of_block, weights=accepted, minlength=n_stages)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        stage_acceptance = stage_accepted / stage_attempted
+    counters = mc.counters
+    return AnnealResult(sites=np.asarray(mc.particles), box=box, n=n, g=g, energy=float(mc.energy),
+                        bonds=int(mc.bonds), deformation=float(mc.deformation), steps=cum_steps.copy(),
+                        temperature=temps, energy_trace=energies, accepted=accepted,
+                        stage_acceptance=stage_acceptance,
+                        acceptance=float(accepted.sum() / max(1, total_steps)), counters=counters, seed=seed,
+                        params=params, elapsed=time.perf_counter() - start, resumed=resumed)
+
+
+# ---------------------------------------------------------------------------------------------
+# Clusters and snapshots
+# ---------------------------------------------------------------------------------------------
+
+def clusters(sites, box) -> list[tuple[np.ndarray, int]]:
+    """Connected clusters of occupied sites in the periodic ``box`` (six neighbours).
+
+    Returns ``(coords, rank)`` pairs, largest cluster first: ``coords`` (k, 2) are unwrapped
+    lattice coordinates (a breadth-first search from the cluster's first site, so neighbours are
+    one lattice step apart), ``rank`` is 0 for a finite cluster, 1 if it wraps around the box in
+    one direction, 2 in two.
+    """
+    sites = np.asarray(sites, dtype=np.int64).reshape(-1, 2) % box
+    where = {tuple(s): k for k, s in enumerate(sites.tolist())}
+    seen = np.zeros(len(sites), bool)
+    found = []
+    for k0 in range(len(sites)):
+        if seen[k0]:
+            continue
+        seen[k0] = True
+        pos = {k0: tuple(sites[k0])}
+        queue, wraps = [k0], []
+        for k in queue:
+            u = pos[k]
+            for d in NEIGHBOURS:
+                v = (u[0] + d[0], u[1] + d[1])
+                t = where.get((v[0] % box, v[1] % box))
+                if t is None:
+                    continue
+                if t not in pos:
+                    pos[t] = v
+                    seen[t] = True
+                    queue.append(t)
+                elif pos[t] != v:
+                    wraps.append((v[0] - pos[t][0], v[1] - pos[t][1]))
+        rank = int(np.linalg.matrix_rank(np.array(wraps))) if wraps else 0
+        found.append((np.array([pos[k] for k in queue]), rank))
+    found.sort(key=lambda c: -len(c[0]))
+    return found
+
+
+def _hexagon_corners(centres, radius=1 / np.sqrt(3)):
+    angles = np.deg2rad(30 + 60 * np.arange(6))
+    return centres[:, None, :] + radius * np.stack([np.cos(angles), np.sin(angles)], axis=1)[None]
+
+
+def draw_snapshot(sites, box, ax=None, particle=None, *, magnify=1.0, cmap="tab10", outline=True):
+    """Draw particles as hexagons at their lattice positions, one colour per cluster (isolated
+    particles grey), each cluster unwrapped (so a cluster across the periodic boundary looks
+    connected) and placed with its centre inside the box, whose outline is drawn.
+
+    With ``particle`` given, finite clusters are drawn in their relaxed shapes (linear solve),
+    displacements from the regular reference magnified by ``magnify``; wrapped clusters stay
+    regular. Returns the matplotlib axes.
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import PolyCollection
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(5, 5 * np.sqrt(3) / 2 / 1.5))
+    colours = plt.get_cmap(cmap)
+    polys, faces = [], []
+    multi = 0
+    for coords, rank in clusters(sites, box):
+        centre = np.floor(coords.mean(axis=0) / box).astype(int) * box
+        coords = coords - centre
+        corners = _hexagon_corners(site_positions(coords))
+        if particle is not None and rank == 0 and len(coords) > 1:
+            from . import relaxation as _relax
+            from .topology import cluster as _cluster
+
+            top = _cluster(coords)
+            r = _relax.relax(particle, top, method="linear")
+            relaxed = _relax.particle_corners(particle, top, r.state)
+            corners = corners + magnify * (relaxed - corners)
+        if len(coords) == 1:
+            colour = (0.75, 0.75, 0.75, 1.0)
+        else:
+            colour = colours(multi % colours.N)
+            multi += 1
+        polys.extend(corners)
+        faces.extend([colour] * len(coords))
+    ax.add_collection(PolyCollection(polys, facecolors=faces, edgecolors="k", linewidths=0.2))
+    if outline:
+        rhombus = site_positions([(0, 0), (box, 0), (box, box), (0, box), (0, 0)]) - site_positions([(0.5, 0.5)])
+        ax.plot(rhombus[:, 0], rhombus[:, 1], color="0.5", lw=0.6)
+    allc = np.concatenate(polys) if polys else np.zeros((1, 2))
+    pad = 1.0
+    ax.set_xlim(min(allc[:, 0].min(), -1) - pad, max(allc[:, 0].max(), 1.5 * box) + pad)
+    ax.set_ylim(min(allc[:, 1].min(), -1) - pad, max(allc[:, 1].max(), np.sqrt(3) / 2 * box) + pad)
+    ax.set_aspect("equal")
+    ax.set_axis_off()
+    return ax

@@ -1,0 +1,412 @@
+"""Tests of the Monte Carlo annealing of aggregate topologies (``pyfrustrate.montecarlo``,
+``kernel/montecarlo.hpp``).
+
+References are independent of the kernel's bookkeeping: energies recomputed from scratch over
+every cluster (with and without canonical representatives), periodic cells built by
+``pyfrustrate.topology``, Boltzmann weights from an exact enumeration of every configuration of
+a tiny box, and the colour-preserving symmetries checked on Cartesian corner positions.
+"""
+import itertools
+import os
+
+import numpy as np
+import pytest
+
+import pyfrustrate
+from pyfrustrate import Hexagon, _kernel, continuum, montecarlo
+from pyfrustrate import topology as T
+from pyfrustrate.relaxation import relax
+
+SQRT3 = np.sqrt(3.0)
+BASIS = np.array([[1.0, 0.5], [0.0, SQRT3 / 2]])  # columns a1, a2
+# The colour-preserving point group of the particle, as integer maps of lattice coordinates.
+D3 = [np.array(m) for m in ([[1, 0], [0, 1]], [[-1, -1], [1, 0]], [[0, 1], [-1, -1]],
+                            [[-1, -1], [0, 1]], [[0, 1], [1, 0]], [[1, 0], [-1, -1]])]
+R60 = np.array([[0, -1], [1, 1]])  # (i, j) -> (-j, i + j)
+YELLOW = np.deg2rad([90, 210, 330])
+RED = np.deg2rad([30, 150, 270])
+
+
+@pytest.fixture(scope="module")
+def particle():
+    return Hexagon.from_continuum(ell=5, nu=0.9, eps=0.01)
+
+
+@pytest.fixture(scope="module")
+def g():
+    return float(continuum.particle_parameters(5, 0.9, 0.5, eps=0.01).g)
+
+
+def kernel_mc(particle, g, box, n, seed, method="linear", tol=1e-5, **kw):
+    kw.setdefault("bond_deformation", particle.bulk_energy_per_particle / 3)
+    return _kernel.MonteCarlo(particle._kernel_model, g, box, n, seed, method,
+                              tol * particle.force_scale, **kw)
+
+
+def transform(sites, m):
+    return np.asarray(sites) @ np.asarray(m).T
+
+
+def random_shape(rng, size):
+    """A random connected set of ``size`` sites grown from the origin."""
+    sites = {(0, 0)}
+    while len(sites) < size:
+        s = list(sites)[rng.integers(len(sites))]
+        d = T.NEIGHBOURS[rng.integers(6)]
+        sites.add((s[0] + int(d[0]), s[1] + int(d[1])))
+    return np.array(sorted(sites))
+
+
+def key(sites):
+    return _kernel.shape_key(np.asarray(sites, dtype=np.int32))[0]
+
+
+# --------------------------------------------------------------------------------------------
+# Symmetry of the cache keys
+# --------------------------------------------------------------------------------------------
+
+def test_d3_maps_preserve_corner_colours():
+    """The six lattice maps are rotations/mirrors of the plane sending yellow corner directions to
+    yellow ones; the 60-degree rotation sends them to red ones."""
+    def cartesian(m):
+        return BASIS @ m @ np.linalg.inv(BASIS)
+
+    def directions(angles):
+        return np.column_stack([np.cos(angles), np.sin(angles)])
+
+    for m in D3:
+        A = cartesian(m)
+        assert np.allclose(A.T @ A, np.eye(2))
+        image = directions(YELLOW) @ A.T
+        assert np.allclose(np.sort_complex(image @ [1, 1j]), np.sort_complex(directions(YELLOW) @ [1, 1j]))
+    image = directions(YELLOW) @ cartesian(R60).T
+    assert np.allclose(np.sort_complex(image @ [1, 1j]), np.sort_complex(directions(RED) @ [1, 1j]))
+    # The mirror x -> -x is (i, j) -> (-i - j, j).
+    assert np.allclose(cartesian(D3[3]), np.diag([-1, 1]))
+
+
+def test_shape_keys_invariant_under_d3_and_translations(rng):
+    for size in (2, 3, 5, 9, 17, 40):
+        shape = random_shape(rng, size)
+        k0 = key(shape)
+        for m in D3:
+            shift = rng.integers(-50, 50, size=2)
+            moved = transform(shape, m) + shift
+            assert key(rng.permutation(moved)) == k0
+        canonical = _kernel.shape_key(shape.astype(np.int32))[1]
+        assert key(canonical) == k0 and len(canonical) == size
+
+
+def test_shape_keys_distinguish_60_degree_rotations(rng):
+    up, down = [(0, 0), (1, 0), (0, 1)], [(0, 0), (1, 0), (1, -1)]
+    assert key(transform(up, R60)) == key(down) != key(up)
+    chiral = np.array([(0, 0), (1, 0), (2, 0), (2, 1)])  # no symmetry at all
+    assert key(transform(chiral, R60)) != key(chiral)
+    # Random asymmetric shapes: R60 gives a new key unless the shape happens to be symmetric.
+    differ = sum(key(transform(s, R60)) != key(s) for s in (random_shape(rng, 12) for _ in range(20)))
+    assert differ >= 18
+    # A shape with six-fold symmetry keeps its key.
+    disk = T.hexagon_sites(2)
+    assert key(transform(disk, R60)) == key(disk)
+
+
+def test_relaxed_energy_invariant_under_d3_not_r60(particle):
+    up = np.array([(0, 0), (1, 0), (0, 1), (2, 0)])  # an up-triangle with a tail: no R60 symmetry
+    energies = [relax(particle, T.cluster(transform(up, m)), method="lbfgs", x0="linear", tol=1e-8).energy for m in D3]
+    assert np.ptp(energies) < 1e-9 * abs(energies[0])  # L-BFGS tolerance
+    rotated = relax(particle, T.cluster(transform(up, R60)), method="lbfgs", x0="linear", tol=1e-8).energy
+    assert abs(rotated - energies[0]) > 1e-4 * abs(energies[0])
+
+
+# --------------------------------------------------------------------------------------------
+# Incremental energy
+# --------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("method", ["linear", "lbfgs"])
+@pytest.mark.parametrize("box,n,seed,delayed", [(5, 12, 1, True), (6, 20, 2, False), (4, 9, 3, True),
+                                                (3, 5, 4, False), (2, 2, 5, True), (12, 24, 6, True)])
+def test_incremental_energy_matches_scratch(particle, g, method, box, n, seed, delayed):
+    mc = kernel_mc(particle, g, box, n, seed, method, delayed_acceptance=delayed)
+    blocks = 6 if method == "lbfgs" else 15
+    scale = n * particle.bulk_energy_per_particle
+    wrapped = 0
+    for _ in range(blocks):
+        mc.run(np.array([0.6 * g]), np.array([60]))
+        wraps = any(rank > 0 for _, rank in montecarlo.clusters(mc.particles, box))
+        wrapped += wraps
+        # Against the canonical representatives the cache uses: to roundoff.
+        assert mc.energy == pytest.approx(mc.box_energy(True), abs=1e-12 * scale)
+        # Against each cluster as it lies: L-BFGS to its tolerance; the linear solve exactly for
+        # finite clusters, but only to O(eps) relative for periodic cells, whose linear energy
+        # depends on the choice of cell (the period vectors' linearised rotation).
+        raw_tol = 1e-8 if method == "lbfgs" else (3e-3 if wraps else 1e-10)
+        assert mc.energy == pytest.approx(mc.box_energy(False), abs=raw_tol * scale)
+    assert mc.counters["accepted"] > 0
+    if box <= 6:
+        assert wrapped, "the dense box should produce clusters that wrap around it"
+
+
+def test_bonds_counted_on_the_torus(particle, g):
+    mc = kernel_mc(particle, g, 7, 15, 3)
+    for _ in range(10):
+        mc.run(np.array([g]), np.array([40]))
+        sites = mc.particles
+        occupied = {tuple(s) for s in sites.tolist()}
+        bonds = sum((( i + di) % 7, (j + dj) % 7) in occupied for i, j in occupied for di, dj in T.NEIGHBOURS) // 2
+        assert mc.bonds == bonds
+
+
+def test_cache_and_incremental_do_not_change_the_chain(particle, g):
+    """Energies are computed from canonical representatives: caching (even a tiny cache cleared
+    all the time) changes nothing; re-minimising every cluster on every move gives the same
+    chain (energies summed in another order)."""
+    def run(**kw):
+        mc = kernel_mc(particle, g, 6, 14, 11, delayed_acceptance=False, **kw)
+        out = mc.run(np.linspace(g, 0.1 * g, 20), np.full(20, 40))
+        return mc, out
+
+    ref, ref_out = run()
+    for kw in (dict(cache=False), dict(cache_limit=30)):
+        mc, out = run(**kw)
+        assert np.array_equal(mc.particles, ref.particles)
+        assert np.array_equal(out["energy"], ref_out["energy"])
+    assert run(cache_limit=30)[0].counters["cache_clears"] > 0
+    naive, out = run(incremental=False, cache=False)
+    assert np.array_equal(naive.particles, ref.particles)
+    assert np.allclose(out["energy"], ref_out["energy"], rtol=0, atol=1e-12)
+
+
+def test_wrapped_clusters_are_periodic_aggregates(particle, g):
+    """A row around the box is a straight fibre; a box full but for one site is a bulk cell
+    with a hole, as pyfrustrate.topology builds them."""
+    box = 6
+    mc = kernel_mc(particle, g, box, box, 1, "lbfgs")
+    mc.place(np.array([(i, 2) for i in range(box)]))
+    fibre = relax(particle, T.fiber(1, cut=0, curved=False), method="lbfgs", x0="linear")
+    assert mc.bonds == box
+    assert mc.deformation == pytest.approx(box * fibre.energy, rel=1e-7)
+    box = 4
+    sites = [(i, j) for i in range(box) for j in range(box)][1:]
+    for method, rel in (("lbfgs", 1e-7), ("linear", 1e-9)):
+        mc = kernel_mc(particle, g, box, len(sites), 1, method)
+        mc.place(np.array(sites))
+        cell = relax(particle, T.periodic(sites, [(box, 0), (0, box)]), method=method, x0="linear")
+        assert mc.bonds == cell.n_bonds
+        assert mc.deformation == pytest.approx(cell.energy, rel=rel)
+
+
+def test_zero_temperature_never_raises_the_energy(particle, g):
+    for delayed in (True, False):
+        mc = kernel_mc(particle, g, 10, 30, 2, delayed_acceptance=delayed)
+        out = mc.run(np.zeros(40), np.full(40, 25))
+        assert np.all(np.diff(out["energy"]) <= 1e-15)
+
+
+# --------------------------------------------------------------------------------------------
+# Boltzmann distribution on an enumerable box
+# --------------------------------------------------------------------------------------------
+
+def enumerate_states(mc, box, n):
+    states = list(itertools.combinations(range(box * box), n))
+    energies = []
+    for s in states:
+        mc.place(np.array([(k % box, k // box) for k in s]))
+        energies.append(mc.box_energy(True))
+    return states, np.array(energies)
+
+
+def sampled_vs_exact(particle, g, box, n, T_over_g, samples, delayed, seed, batches=20):
+    """Sample the states after every move at fixed T; compare with the exact Boltzmann weights.
+
+    Returns the total-variation distances over states and over energy levels, and the largest
+    z-score of a level's frequency, its standard error estimated by batch means (the samples
+    are correlated)."""
+    mc = kernel_mc(particle, g, box, n, seed, delayed_acceptance=delayed)
+    states, E = enumerate_states(kernel_mc(particle, g, box, n, 0), box, n)
+    T_ = T_over_g * g
+    w = np.exp(-(E - E.min()) / T_)
+    w /= w.sum()
+    out = mc.run(np.full(samples, T_), np.ones(samples, dtype=np.int64), True)
+    index = {s: k for k, s in enumerate(states)}
+    ids = np.array([index[tuple(r)] for r in out["sites"].tolist()])
+    h = np.bincount(ids, minlength=len(states)) / samples
+    levels = np.unique(np.round(E / g, 9), return_inverse=True)[1]
+    w_levels = np.bincount(levels, w)
+    per_batch = np.array([np.bincount(levels[b], minlength=len(w_levels)) / len(b)
+                          for b in np.array_split(ids, batches)])
+    error = np.maximum(per_batch.std(axis=0, ddof=1) / np.sqrt(batches), 1.0 / samples)
+    z = np.abs(per_batch.mean(axis=0) - w_levels) / error
+    tv_states = 0.5 * np.abs(h - w).sum()
+    tv_levels = 0.5 * np.abs(np.bincount(levels, h, minlength=len(w_levels)) - w_levels).sum()
+    return tv_states, tv_levels, z.max(), E
+
+
+@pytest.mark.parametrize("box,n", [(3, 3), (4, 3), (3, 4)])
+@pytest.mark.parametrize("delayed", [True, False])
+def test_sampling_matches_boltzmann_weights(box, n, delayed):
+    # eps = 0.05 makes deformation energies a sizeable part of the weights.
+    particle = Hexagon.from_continuum(ell=5, nu=0.9, eps=0.05)
+    g = float(continuum.particle_parameters(5, 0.9, 0.5, eps=0.05).g)
+    tv_states, tv_levels, z, E = sampled_vs_exact(particle, g, box, n, 0.5, 200_000, delayed, seed=box + n + delayed)
+    assert len(np.unique(np.round(E, 10))) >= 5
+    assert z < 5
+    assert tv_levels < 0.02
+    assert tv_states < 0.06
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("delayed", [True, False])
+def test_sampling_matches_boltzmann_weights_long(delayed):
+    particle = Hexagon.from_continuum(ell=5, nu=0.9, eps=0.05)
+    g = float(continuum.particle_parameters(5, 0.9, 0.5, eps=0.05).g)
+    tv_states, tv_levels, z, _ = sampled_vs_exact(particle, g, 4, 4, 0.4, 5_000_000, delayed, seed=17)
+    assert z < 5
+    assert tv_levels < 0.004
+    assert tv_states < 0.015
+
+
+# --------------------------------------------------------------------------------------------
+# The Python API
+# --------------------------------------------------------------------------------------------
+
+def small_anneal(particle, g, **kw):
+    kw = dict(dict(box=12, n=24, steps=24 * 150, seed=3, progress=False), **kw)
+    return pyfrustrate.anneal(particle, g, **kw)
+
+
+def test_anneal_result(particle, g):
+    r = small_anneal(particle, g)
+    assert r.sites.shape == (24, 2) and r.sites.min() >= 0 and r.sites.max() < 12
+    assert len({tuple(s) for s in r.sites.tolist()}) == 24
+    assert r.energy_trace.shape == r.temperature.shape == r.accepted.shape == r.steps.shape == (150,)
+    assert r.steps[-1] == 24 * 150 == r.counters["attempted"]
+    assert r.temperature[0] == pytest.approx(g) and r.temperature[-1] == 0
+    assert r.energy_trace[-1] == r.energy
+    assert r.counters["accepted"] == r.accepted.sum()
+    assert r.acceptance == pytest.approx(r.accepted.sum() / (24 * 150))
+    assert r.stage_acceptance.shape == (10,)
+    assert r.stage_acceptance[0] > r.stage_acceptance[-1]
+    assert r.energy < r.energy_trace[0]
+    assert 0 < r.cache_hit_rate < 1
+    assert sum(len(c) for c in r.clusters()) == 24
+    # The final energy from scratch, with anneal's default relaxation (L-BFGS to tol 1e-3 from
+    # other starting states: equal to the relaxation's accuracy, ~1e-6 relative).
+    mc = kernel_mc(particle, g, 12, 24, 0, method="lbfgs", tol=1e-3)
+    mc.place(r.sites)
+    assert mc.energy == pytest.approx(r.energy, rel=1e-5)
+
+
+def test_runs_are_deterministic_per_seed(particle, g):
+    a, b, c = small_anneal(particle, g), small_anneal(particle, g), small_anneal(particle, g, seed=4)
+    assert np.array_equal(a.sites, b.sites) and np.array_equal(a.energy_trace, b.energy_trace)
+    assert a.counters == b.counters
+    assert not np.array_equal(a.energy_trace, c.energy_trace)
+    for lbfgs in (small_anneal(particle, g, method="lbfgs", steps=24 * 30) for _ in range(2)):
+        assert lbfgs.counters["unconverged"] == 0
+    assert small_anneal(particle, g, seed=None).seed != small_anneal(particle, g, seed=None).seed
+
+
+def test_schedules(particle, g):
+    r = small_anneal(particle, g, schedule=[(g, 100), (0.5 * g, 250), (0.0, 30)], steps=None, record_every=50)
+    assert r.steps.tolist() == [50, 100, 150, 200, 250, 300, 350, 380]
+    assert r.temperature.tolist() == [g, g, 0.5 * g, 0.5 * g, 0.5 * g, 0.5 * g, 0.5 * g, 0.0]
+    assert r.stage_acceptance.shape == (3,)
+    r = small_anneal(particle, g, schedule="geometric", T0=2 * g, T_end=0.01 * g, steps=24 * 20)
+    assert r.temperature[0] == pytest.approx(2 * g) and r.temperature[-2] == pytest.approx(0.01 * g)
+    assert r.temperature[-1] == 0 and np.all(np.diff(r.temperature) < 0)
+    r = small_anneal(particle, g, schedule=lambda x: g * (1 - x) ** 2, steps=24 * 11)
+    assert np.allclose(r.temperature, g * (1 - np.linspace(0, 1, 11)) ** 2)
+
+
+def test_checkpoint_resume_equals_uninterrupted(particle, g, tmp_path):
+    kw = dict(box=10, n=20, steps=20 * 60, seed=8, record_every=20)
+    ref = small_anneal(particle, g, **kw)
+    path = tmp_path / "run.ckpt"
+    calls = []
+
+    def interrupt(done, total, energy):
+        calls.append(done)
+        if len(calls) in (1, 3):
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        small_anneal(particle, g, checkpoint=str(path), callback=interrupt, **kw)
+    assert path.exists()
+    with pytest.raises(KeyboardInterrupt):
+        small_anneal(particle, g, checkpoint=str(path), callback=interrupt, **kw)
+    resumed = small_anneal(particle, g, checkpoint=str(path), callback=interrupt, **kw)
+    assert resumed.resumed and calls[0] < calls[-1] == 20 * 60
+    assert np.array_equal(resumed.sites, ref.sites)
+    assert np.array_equal(resumed.energy_trace, ref.energy_trace)
+    assert np.array_equal(resumed.accepted, ref.accepted)
+    assert resumed.energy == ref.energy
+    for k in ("attempted", "accepted", "screened"):
+        assert resumed.counters[k] == ref.counters[k]
+    assert os.listdir(tmp_path) == ["run.ckpt"]  # no temporary files left behind
+    # A finished checkpoint is returned as is; other parameters are refused.
+    again = small_anneal(particle, g, checkpoint=str(path), **kw)
+    assert np.array_equal(again.sites, ref.sites) and again.energy == ref.energy
+    with pytest.raises(ValueError, match="checkpoint.*seed"):
+        small_anneal(particle, g, checkpoint=str(path), **dict(kw, seed=9))
+
+
+@pytest.mark.parametrize("kw,name", [
+    (dict(n=145), "n"), (dict(n=144), "n"), (dict(n=0), "n"), (dict(box=1, n=1), "box"),
+    (dict(box=2.5), "box"), (dict(T0=-1.0), "T0"), (dict(schedule=[(-1.0, 10)], steps=None), "schedule"),
+    (dict(schedule=lambda x: -x), "schedule"), (dict(g=-0.1), "g"), (dict(method="cg"), "method"),
+    (dict(tol=0), "tol"), (dict(steps=0), "steps"), (dict(seed=-1), "seed"), (dict(schedule="cosine"), "schedule"),
+    (dict(record_every=0), "record_every"), (dict(schedule=[(0.1, 10)], steps=11), "steps"),
+])
+def test_bad_input_names_the_parameter(particle, g, kw, name):
+    kw = dict(dict(g=g), **kw)
+    with pytest.raises(ValueError, match=name):
+        small_anneal(particle, **kw)
+
+
+def test_kernel_bad_input(particle, g):
+    with pytest.raises(ValueError, match="box"):
+        kernel_mc(particle, g, 1, 1, 0)
+    with pytest.raises(ValueError, match="n"):
+        kernel_mc(particle, g, 3, 9, 0)
+    with pytest.raises(ValueError, match="g"):
+        kernel_mc(particle, -1.0, 3, 2, 0)
+    mc = kernel_mc(particle, g, 3, 2, 0)
+    with pytest.raises(ValueError, match="temperatures"):
+        mc.run(np.array([-1.0]), np.array([1]))
+    with pytest.raises(ValueError, match="sites"):
+        mc.place(np.array([(0, 0), (3, 0)]))
+
+
+# --------------------------------------------------------------------------------------------
+# Clusters and snapshots
+# --------------------------------------------------------------------------------------------
+
+def test_clusters_unwrap_and_rank():
+    box = 8
+    row = [(i, 3) for i in range(box)]
+    found = montecarlo.clusters(row + [(5, 6)], box)
+    assert [len(c) for c, _ in found] == [8, 1] and [r for _, r in found] == [1, 0]
+    cross = row + [(0, j) for j in range(box) if j != 3]
+    assert montecarlo.clusters(cross, box)[0][1] == 2
+    corner = [(0, 0), (box - 1, 0), (0, box - 1), (1, box - 1)]  # one cluster across the boundary
+    (coords, rank), = montecarlo.clusters(corner, box)
+    assert rank == 0 and np.ptp(coords, axis=0).max() <= 2
+
+
+def test_draw_snapshot(particle):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import PolyCollection
+
+    box = 8
+    sites = [(0, 0), (box - 1, 0), (0, box - 1), (1, box - 1), (4, 4), (2, 5)]
+    for p in (None, particle):
+        ax = montecarlo.draw_snapshot(sites, box, particle=p)
+        polys = [c for c in ax.collections if isinstance(c, PolyCollection)][0].get_paths()
+        assert len(polys) == len(sites)
+        centres = np.array([path.vertices[:6].mean(axis=0) for path in polys])
+        # The four particles around the periodic corner are drawn as one connected cluster.
+        d = np.linalg.norm(centres[:4, None] - centres[None, :4], axis=-1)
+        assert np.all(np.sort(d, axis=1)[:, 1] < 1.01)
+        plt.close(ax.figure)
