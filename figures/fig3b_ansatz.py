@@ -1,21 +1,58 @@
 """Fig. 3b: phase diagram from the numerical comparison of the pre-made aggregates of Fig. 4a
-at ell = 5, with the continuum boundaries of Fig. 3a overlaid. The fibre region is larger than
-in the continuum; disk radii jump at the disk-bulk boundary; bulks with holes win only at very
-small Gamma."""
+at ell = 5, with the continuum boundaries of Fig. 3a overlaid (dashed), and Monte Carlo
+annealing snapshots at the conditions marked by numbered squares: fibres at large nu widening
+with Gamma, disks at nu = 0.4 growing with Gamma (bottom row, dense box), and the transition
+from disks to elongated aggregates along Gamma = 0.5; two seeds at (Gamma, nu) = (0.5, 0.9)."""
+import numpy as np
+
 from pyfrustrate import plotting
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.montecarlo import clusters, draw_snapshot
+from pyfrustrate.topology import site_positions
 
 
-def main(diagram_path, continuum_path, outputs):
+def main(diagram_path, continuum_path, snapshot_paths, outputs):
     diagram = load_npz(diagram_path)
-    fig = plotting.figure(12.0, 9.0)
-    ax = fig.add_axes([0.1, 0.12, 0.66, 0.8])
-    cbars = [fig.add_axes([0.8, 0.12, 0.025, 0.8]), fig.add_axes([0.9, 0.12, 0.025, 0.8])]
-    plotting.draw_ansatz_diagram(fig, ax, diagram, load_npz(continuum_path), colorbar_axes=cbars)
-    ax.text(0.02, 0.02, rf"$\ell = {float(diagram['ell']):g}$", transform=ax.transAxes, fontsize=9, color="w")
+    runs = sorted((load_npz(p) for p in snapshot_paths),
+                  key=lambda r: (-float(r["nu"]), float(r["Gamma"]), int(r["seed"])))
+    cols = 4
+    rows = int(np.ceil(len(runs) / cols))
+    fig = plotting.figure(17.8, max(9.0, 3.4 * rows))
+    ax = fig.add_axes([0.06, 0.3, 0.36, 0.6])
+    plotting.draw_ansatz_diagram(fig, ax, diagram, load_npz(continuum_path))
+    ax.text(0.8, 0.04, rf"$\ell = {float(diagram['ell']):g}$", transform=ax.transAxes, fontsize=9, color="w")
+    offsets = {}
+    for k, r in enumerate(runs, start=1):
+        point = (float(r["Gamma"]), float(r["nu"]))
+        shift = offsets.get(point, 0)
+        offsets[point] = shift + 1
+        ax.plot(*point, "s", ms=7, mfc="w", mec="k", mew=0.7, zorder=6)
+        ax.annotate(str(k), point, xytext=(4 + 9 * shift, 4), textcoords="offset points", fontsize=6, zorder=7)
+    width = 0.55 / cols
+    height = 0.92 / rows
+    for k, r in enumerate(runs, start=1):
+        i, j = divmod(k - 1, cols)
+        sub = fig.add_axes([0.44 + j * width, 0.97 - (i + 1) * height, width * 0.95, height * 0.82])
+        draw_snapshot(r["sites"], int(r["box"]), ax=sub)
+        # Zoom onto the largest cluster, placed as draw_snapshot places it (centre in the box).
+        coords, _ = max(clusters(r["sites"], int(r["box"])), key=lambda c: len(c[0]))
+        coords = coords - np.floor(coords.mean(axis=0) / int(r["box"])).astype(int) * int(r["box"])
+        xy = site_positions(coords)
+        (x0, y0), (x1, y1) = xy.min(axis=0), xy.max(axis=0)
+        half = 0.5 * max(x1 - x0, (y1 - y0) / 0.8) + 2.0
+        sub.set_xlim(0.5 * (x0 + x1) - half, 0.5 * (x0 + x1) + half)
+        sub.set_ylim(0.5 * (y0 + y1) - 0.8 * half, 0.5 * (y0 + y1) + 0.8 * half)
+        sub.set_xticks([])
+        sub.set_yticks([])
+        seed = f", seed {int(r['seed'])}" if int(r["seed"]) != 1 else ""
+        sub.set_title(rf"{k}: $\Gamma$={float(r['Gamma']):g}, $\nu$={float(r['nu']):g}{seed}", fontsize=6)
+    sizes = sorted({(int(r["n"]), int(r["box"])) for r in runs})
+    fig.text(0.06, 0.02, "Monte Carlo: " + "; ".join(f"{n} particles in {b} x {b} sites" for n, b in sizes)
+             + f"; {len(runs)} runs; each panel zoomed on its largest cluster (others in other colours)", fontsize=6)
     plotting.save(fig, outputs)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main(snakemake.input.diagram, snakemake.input.continuum[0], [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+        main(snakemake.input.diagram, snakemake.input.continuum[0], snakemake.input.snapshots,  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821

@@ -48,7 +48,6 @@ import math
 import os
 import pickle
 import secrets
-import tempfile
 import time
 from dataclasses import dataclass, field
 from numbers import Integral
@@ -57,6 +56,7 @@ import numpy as np
 
 from . import _kernel
 from .relaxation import METHODS
+from .io import atomic_path
 from .topology import NEIGHBOURS, site_positions
 
 __all__ = ["anneal", "AnnealResult", "draw_snapshot", "clusters", "SCHEDULES"]
@@ -232,19 +232,11 @@ def _schedule_description(schedule):
 # ---------------------------------------------------------------------------------------------
 
 def _write_atomically(path, data):
-    """Pickle ``data`` to a temporary file beside ``path``, then rename it over ``path``."""
-    directory = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=directory, prefix=os.path.basename(path) + ".", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            pickle.dump(data, f, protocol=4)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    """Pickle ``data`` to ``path`` atomically (``io.atomic_path``: temporary file, then rename)."""
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        pickle.dump(data, f, protocol=4)
+        f.flush()
+        os.fsync(f.fileno())
 
 
 def _read_checkpoint(path, signature):

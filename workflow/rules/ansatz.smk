@@ -66,6 +66,7 @@ rule fig3b_ansatz:
     input:
         diagram=f"results/ansatz/diagram_ell{ANSATZ['fig3b_ell']:g}.npz",
         continuum=rules.continuum_phase_diagram.output,
+        snapshots=mc_snapshot_files(),
     output:
         pdf=f"{FIGURES}/fig3b_ansatz.pdf",
         png=f"{FIGURES}/fig3b_ansatz.png",

@@ -1,0 +1,31 @@
+"""One Monte Carlo annealing run (main text, "Monte-Carlo validation of the phase diagram"):
+particles at random in a periodic box, moves of single particles, Metropolis on the topology
+with relaxed cluster energies, temperature lowered linearly from g to 0."""
+import os
+
+import numpy as np
+
+from pyfrustrate import Hexagon, anneal, continuum
+from pyfrustrate.io import logging_to, save_npz
+
+s = snakemake.params.settings  # noqa: F821
+p = snakemake.params  # noqa: F821
+with logging_to(snakemake.log[0]):  # noqa: F821
+    particle = Hexagon.from_continuum(s["ell"], p.nu, eps=s["eps"])
+    g = float(continuum.particle_parameters(s["ell"], p.nu, p.Gamma, eps=s["eps"]).g)
+    n, box = (s["dense_n"], s["dense_box"]) if p.dense else (s["n"], s["box"])
+    method = s["dense_method"] if p.dense else s["method"]
+    sweeps = s["dense_sweeps"] if p.dense else s["sweeps"]
+    # Named by everything that defines the run, so a changed configuration starts afresh while an
+    # interrupted run of the same configuration resumes.
+    checkpoint = f"{p.checkpoint_stem}_{n}in{box}_{sweeps}sweeps_{method}_tol{s['tol']:g}_eps{s['eps']:g}.pkl"
+    r = anneal(particle, g, box=box, n=n, steps=n * sweeps, seed=p.seed, method=method, tol=s["tol"],
+               checkpoint=checkpoint, progress=True)
+    sizes = sorted((len(c) for c in r.clusters()), reverse=True)
+    print(f"nu={p.nu} Gamma={p.Gamma} n={n} box={box} seed={p.seed} method={method}: energy {r.energy:.6g}, "
+          f"acceptance {r.acceptance:.3g}, cache hit rate {r.cache_hit_rate:.3f}, {r.elapsed:.1f} s; clusters {sizes[:8]}")
+    save_npz(snakemake.output[0], sites=r.sites, box=box, n=n, nu=p.nu, Gamma=p.Gamma, ell=s["ell"],  # noqa: F821
+             seed=p.seed, g=g, energy=r.energy, energy_trace=r.energy_trace, temperature=r.temperature,
+             steps=r.steps, acceptance=r.acceptance, stage_acceptance=r.stage_acceptance, method=method,
+             cluster_sizes=np.array(sizes))
+    os.remove(checkpoint)  # the result is saved: nothing left to resume
