@@ -59,7 +59,7 @@ from .relaxation import METHODS
 from .io import atomic_path
 from .topology import NEIGHBOURS, site_positions
 
-__all__ = ["anneal", "AnnealResult", "draw_snapshot", "clusters", "SCHEDULES"]
+__all__ = ["anneal", "AnnealResult", "draw_snapshot", "clusters", "classify_aggregate", "SCHEDULES"]
 
 SCHEDULES = ("linear", "geometric")
 _CHECKPOINT_VERSION = 1
@@ -485,6 +485,40 @@ def clusters(sites, box) -> list[tuple[np.ndarray, int]]:
         found.append((np.array([pos[k] for k in queue]), rank))
     found.sort(key=lambda c: -len(c[0]))
     return found
+
+
+#: Gyration anisotropy sqrt(l1 / l2) above which a finite aggregate counts as elongated.
+ELONGATION_THRESHOLD = 1.6
+#: Bonds per particle below which a large aggregate counts as an open network (a bulk with
+#: holes: 1.5 in the honeycomb pattern, 3 in a bulk, about 2.5 in a compact disk of 100).
+OPEN_NETWORK_BONDS = 2.0
+
+
+def classify_aggregate(sites, box) -> tuple[str, int]:
+    """Kind of the largest aggregate of a Monte Carlo state, for phase diagrams: ``'bulk'``
+    (wraps the box both ways), ``'fiber'`` (wraps one way, or finite and elongated: gyration
+    anisotropy above ``ELONGATION_THRESHOLD``), ``'bulk_with_holes'`` (fewer than
+    ``OPEN_NETWORK_BONDS`` bonds per particle), ``'disk'`` (compact), or ``'gas'`` (largest
+    cluster of fewer than 3 particles). Returns ``(kind, size of the largest cluster)``.
+
+    A heuristic with the limits of a finite box: an aggregate narrower than the optimal fibre
+    width but too short to show it (few particles) reads as a disk.
+    """
+    coords, rank = clusters(sites, box)[0]
+    size = len(coords)
+    if size < 3:
+        return "gas", size
+    if rank == 2:
+        return "bulk", size
+    if rank == 1:
+        return "fiber", size
+    members = {tuple(c) for c in coords.tolist()}
+    bonds = sum((c[0] + d[0], c[1] + d[1]) in members for c in coords.tolist() for d in NEIGHBOURS) / 2
+    if bonds / size < OPEN_NETWORK_BONDS:
+        return "bulk_with_holes", size
+    xy = site_positions(coords)
+    eigen = np.linalg.eigvalsh(np.cov(xy.T))
+    return ("fiber" if np.sqrt(eigen[1] / max(eigen[0], 1e-12)) > ELONGATION_THRESHOLD else "disk"), size
 
 
 def _hexagon_corners(centres, radius=1 / np.sqrt(3)):

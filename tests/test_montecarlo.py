@@ -410,3 +410,25 @@ def test_draw_snapshot(particle):
         d = np.linalg.norm(centres[:4, None] - centres[None, :4], axis=-1)
         assert np.all(np.sort(d, axis=1)[:, 1] < 1.01)
         plt.close(ax.figure)
+
+
+# --------------------------------------------------------------------------------------------
+# Classification of final states (Monte Carlo phase diagram)
+# --------------------------------------------------------------------------------------------
+
+def test_classify_aggregate_reads_known_shapes():
+    from pyfrustrate import topology as T
+    from pyfrustrate.montecarlo import classify_aggregate
+
+    box = 30
+    disk = T.hexagon_sites(4) + 10
+    assert classify_aggregate(disk, box) == ("disk", 61)
+    strip = np.array([(i, j) for i in range(20) for j in range(3)])
+    assert classify_aggregate(strip, box)[0] == "fiber"            # finite, elongated
+    wrapped = np.array([(i, j) for i in range(box) for j in range(4)])
+    assert classify_aggregate(wrapped, box)[0] == "fiber"          # wraps one way
+    full = np.array([(i, j) for i in range(box) for j in range(box) if (i + j) % 7])
+    assert classify_aggregate(full, box)[0] == "bulk"              # wraps both ways
+    honeycomb = np.array([(i, j) for i in range(12) for j in range(12) if (i - j) % 3])
+    assert classify_aggregate(honeycomb, box)[0] == "bulk_with_holes"
+    assert classify_aggregate([(0, 0), (5, 5)], box) == ("gas", 1)

@@ -16,3 +16,28 @@ rule montecarlo_run:
         "results/logs/montecarlo/{kind}_nu{nu}_G{Gamma}_seed{seed}.log",
     script:
         "../scripts/montecarlo_run.py"
+
+
+rule montecarlo_diagram:
+    input:
+        [mc_run_file(nu, G, MC["seeds"][0], False) for nu in MC["diagram_nu"] for G in MC["diagram_Gamma"]],
+    output:
+        "results/montecarlo/diagram.npz",
+    log:
+        "results/logs/montecarlo/diagram.log",
+    script:
+        "../scripts/montecarlo_diagram.py"
+
+
+rule figX_mc_diagram:
+    input:
+        montecarlo=rules.montecarlo_diagram.output,
+        diagram=f"results/ansatz/diagram_ell{ANSATZ['fig3b_ell']:g}.npz",
+        continuum=rules.continuum_phase_diagram.output,
+    output:
+        pdf=f"{FIGURES}/figX_mc_diagram.pdf",
+        png=f"{FIGURES}/figX_mc_diagram.png",
+    log:
+        "results/logs/figX_mc_diagram.log",
+    script:
+        "../../figures/figX_mc_diagram.py"
