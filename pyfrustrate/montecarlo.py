@@ -158,13 +158,14 @@ def _integer(name, value, lo, hi=None):
     return value
 
 
-def _temperature(name, value):
+def _non_negative(name, value):
+    """``value`` as a finite float >= 0 (temperatures, binding energy), else ValueError naming it."""
     try:
         t = float(value)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a number, got {value!r}") from None
     if not math.isfinite(t) or t < 0:
-        raise ValueError(f"{name} must be a non-negative finite temperature, got {value!r}")
+        raise ValueError(f"{name} must be non-negative and finite, got {value!r}")
     return t
 
 
@@ -184,7 +185,7 @@ def _plan(steps, schedule, T0, T_end, record_every):
             elif schedule == "geometric":
                 if T_end is None:
                     T_end = 1e-3 * T0
-                T_end = _temperature("T_end", T_end)
+                T_end = _non_negative("T_end", T_end)
                 if not (0 < T_end <= T0):
                     raise ValueError(f"T_end must lie in (0, T0] for a geometric schedule, got {T_end!r}")
                 xg = np.arange(n_blocks) / max(n_blocks - 2, 1)
@@ -194,7 +195,7 @@ def _plan(steps, schedule, T0, T_end, record_every):
                 raise ValueError(f"schedule must be one of {SCHEDULES}, a callable or a sequence of (T, steps) "
                                  f"stages, got {schedule!r}")
         else:
-            temps = np.array([_temperature("schedule(x)", schedule(float(xi))) for xi in x])
+            temps = np.array([_non_negative("schedule(x)", schedule(float(xi))) for xi in x])
         stage = np.minimum(_CONTINUOUS_STAGES * np.arange(n_blocks) // max(n_blocks, 1), _CONTINUOUS_STAGES - 1)
         return temps.astype(float), block_steps, stage, _CONTINUOUS_STAGES
     try:
@@ -206,7 +207,7 @@ def _plan(steps, schedule, T0, T_end, record_every):
         raise ValueError("schedule: the sequence of stages is empty")
     temps, block_steps, stage_index = [], [], []
     for k, (t, m) in enumerate(stages):
-        t = _temperature(f"schedule: temperature of stage {k}", t)
+        t = _non_negative(f"schedule: temperature of stage {k}", t)
         m = _integer(f"schedule: steps of stage {k}", m, 1)
         full, rest = divmod(m, record_every)
         chunks = [record_every] * full + ([rest] if rest else [])
@@ -333,12 +334,7 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     n = _integer("n", n, 1)
     if n >= box * box:
         raise ValueError(f"n must be smaller than box**2 = {box * box} (a move needs an empty site), got {n}")
-    try:
-        g = float(g)
-    except (TypeError, ValueError):
-        raise ValueError(f"g must be a number, got {g!r}") from None
-    if not math.isfinite(g) or g < 0:
-        raise ValueError(f"g must be non-negative and finite, got {g!r}")
+    g = _non_negative("g", g)
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
@@ -349,7 +345,7 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     record_every = n if record_every is None else _integer("record_every", record_every, 1)
     if T0 is None:
         T0 = g if g > 0 else particle.bulk_energy_per_particle
-    T0 = _temperature("T0", T0)
+    T0 = _non_negative("T0", T0)
     if steps is None and (isinstance(schedule, str) or callable(schedule)):
         steps = DEFAULT_SWEEPS * n
     max_iter = _integer("max_iter", max_iter, 1)
