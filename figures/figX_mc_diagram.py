@@ -27,7 +27,7 @@ def main(mc_path, diagram_path, continuum_path, outputs):
                for k, m in MARKERS.items()]
     fig.legend(handles=handles, loc="center right", title="Monte Carlo\n(largest aggregate)", fontsize=7,
                title_fontsize=7, frameon=False)
-    fig.text(0.1, -0.04, f"annealing runs of {int(mc['n'][0])} particles (numbers: size of the largest aggregate). "
+    fig.text(0.1, -0.14, f"annealing runs of {int(mc['n'][0])} particles (numbers: size of the largest aggregate). "
              "\nA box this small cannot tell a bulk, or a fibre wider than it is long,\n"
              "from a compact aggregate: above Gamma ~ 0.8 every finite aggregate reads as a disk.", fontsize=6)
     plotting.save(fig, outputs)
