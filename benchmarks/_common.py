@@ -1,4 +1,4 @@
-"""Shared helpers of the benchmarks: environment, timing, table printing.
+"""Shared helpers of the benchmarks: environment, timing, table printing, CSV output.
 
 Import this module before numpy: it pins BLAS/OpenMP to one thread. The kernel is single-threaded;
 a multi-threaded BLAS on a shared 2-core machine makes scipy's L-BFGS-B up to 10x slower in
@@ -99,3 +99,17 @@ def machine_line():
         load_s = "load average n/a"
     return (f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, {load_s}, "
             f"python {platform.python_version()}")
+
+
+def write_csv(path, rows):
+    """Write ``rows`` (dicts with the same keys) as CSV, atomically (``pyfrustrate.io.atomic_path``:
+    the trade-off table is a workflow output), and say so."""
+    import csv
+
+    from pyfrustrate.io import atomic_path
+
+    with atomic_path(path) as tmp, open(tmp, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    print(f"\nwrote {path}")

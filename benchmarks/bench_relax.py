@@ -28,7 +28,6 @@ stops with an AssertionError if they disagree.
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import statistics
 import sys
@@ -36,7 +35,7 @@ import warnings
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import fmt_time, import_pyfrustrate, machine_line, per_call, table, timed  # noqa: E402
+from _common import fmt_time, import_pyfrustrate, machine_line, per_call, table, timed, write_csv  # noqa: E402
 
 import numpy as np  # noqa: E402
 from scipy.optimize import minimize  # noqa: E402
@@ -202,11 +201,7 @@ def main(argv=None):
     print("  " + table([(R, n, f"{a:.1f}x", f"{m:.1f}x") for R, n, a, m in summary],
                        ["R", "path", "min", "median"]).replace("\n", "\n  "))
     if args.csv:
-        with open(args.csv, "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(csv_rows[0]))
-            w.writeheader()
-            w.writerows(csv_rows)
-        print(f"\nwrote {args.csv}")
+        write_csv(args.csv, csv_rows)
     return summary
 
 

@@ -28,7 +28,6 @@ are timed once).
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import statistics
 import sys
@@ -36,7 +35,7 @@ import warnings
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import fmt_time, import_pyfrustrate, machine_line, table, timed  # noqa: E402
+from _common import fmt_time, import_pyfrustrate, machine_line, table, timed, write_csv  # noqa: E402
 
 
 pf = import_pyfrustrate()
@@ -183,11 +182,7 @@ def main(argv=None):
         "\n", "\n  "))
 
     if args.csv:
-        with open(args.csv, "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-            w.writeheader()
-            w.writerows(rows)
-        print(f"\nwrote {args.csv}")
+        write_csv(args.csv, rows)
     return rows
 
 
