@@ -1,3 +1,4 @@
+#include "network.hpp"
 #include "topology.hpp"
 
 #include <pybind11/eigen.h>
@@ -69,6 +70,23 @@ void export_topology(py::module_& m) {
                                "curved fibre: the point its images turn about")
         .def_readonly("bend_scale", &Topology::bend_scale,
                       "curved fibre: the state's bend parameter is bend_scale * (angle between images)")
+        .def(
+            "image_points",
+            [](const Topology& t, const Eigen::VectorXd& state, const Eigen::MatrixXd& points, int n1, int n2) {
+                const int expected = 2 * t.n_corners() + t.n_period_parameters();
+                if (state.size() != expected)
+                    throw std::invalid_argument("state has " + std::to_string(state.size()) + " entries, expected " +
+                                                std::to_string(expected));
+                if (points.cols() != 2) throw std::invalid_argument("points must have shape (m, 2)");
+                const double* period = state.data() + 2 * t.n_corners();
+                Eigen::MatrixXd out(points.rows(), 2);
+                for (Eigen::Index k = 0; k < points.rows(); ++k)
+                    out.row(k) = detail::image_point(t, points.row(k).transpose(), {n1, n2}, period).position.transpose();
+                return out;
+            },
+            py::arg("state"), py::arg("points"), py::arg("n1"), py::arg("n2") = 0,
+            "Points (m, 2) sent by the period map of the relaxed state to image (n1, n2): the same map the "
+            "energy uses (kernel/network.hpp).")
         .def("reference_state", &Topology::reference_state,
              "Flat reference state: corners (x0, y0, x1, ...) then period-map parameters.");
 }

@@ -164,28 +164,13 @@ def periodic_images(topology: Topology, state, corners, images=range(-1, 2)) -> 
     Returns (n_images * n_particles, m, 2). A finite topology is returned unchanged.
     """
     state = np.asarray(state, float)
-    period = state[2 * topology.n_corners:]
     corners = np.asarray(corners, float)
     if topology.periodicity == "none":
         return corners
-    if topology.periodicity == "bulk":
-        t1, t2 = period[:2], period[2:4]
-        return np.concatenate([corners + a * t1 + b * t2 for a in images for b in images])
-    # g(r) = R(theta) (r - pivot) + pivot + shift, as in kernel/network.hpp.
-    shift = period[:2]
-    angle = period[2] / topology.kernel.bend_scale if topology.curved else 0.0
-    pivot = np.asarray(topology.kernel.pivot)
-    c, s = np.cos(angle), np.sin(angle)
-    rotation = np.array([[c, -s], [s, c]])
-    out = []
-    for n in images:
-        pts = corners.copy()
-        step = ((lambda p: (p - pivot) @ rotation.T + pivot + shift) if n >= 0
-                else (lambda p: (p - shift - pivot) @ rotation + pivot))
-        for _ in range(abs(n)):
-            pts = step(pts)
-        out.append(pts)
-    return np.concatenate(out)
+    shifts = [(a, b) for a in images for b in images] if topology.periodicity == "bulk" else [(n, 0) for n in images]
+    flat = corners.reshape(-1, 2)
+    return np.concatenate([np.asarray(topology.kernel.image_points(state, flat, a, b)).reshape(corners.shape)
+                           for a, b in shifts])
 
 
 def fiber_curvature(topology: Topology, state) -> float:

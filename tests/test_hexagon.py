@@ -801,3 +801,25 @@ def test_energy_per_particle_does_not_depend_on_how_the_cell_is_written(method):
         e_small = pyfrustrate.relax(particle, small, method=method).energy_per_particle
         e_large = pyfrustrate.relax(particle, large, method=method).energy_per_particle
         assert e_large == pytest.approx(e_small, rel=1e-10)
+
+
+@pytest.mark.parametrize("make", [lambda: T.fiber(3, 0), lambda: T.fiber(4, 2), lambda: T.bulk_with_holes("kagome")],
+                         ids=["curved cut 0", "curved cut 2", "bulk cell"])
+def test_image_points_are_the_corners_the_energy_sees(make):
+    """Drawing helpers place periodic images with ``Topology.image_points``: for every corner a
+    particle takes from a neighbouring image, that map gives the position the energy used."""
+    particle = pyfrustrate.Hexagon.from_continuum(2.5, 0.5, eps=0.04)
+    topo = make()
+    state = pyfrustrate.relax(particle, topo, x0="linear").state
+    seen = particle_corners(particle, topo, state)
+    corners = state[: 2 * topo.n_corners].reshape(-1, 2)
+    checked = 0
+    for p, (ids, images) in enumerate(zip(topo.kernel.corners, topo.kernel.images)):
+        for slot, (c, (n1, n2)) in enumerate(zip(ids, images)):
+            if n1 or n2:
+                mapped = topo.kernel.image_points(state, corners[c][None, :], int(n1), int(n2))[0]
+                np.testing.assert_allclose(mapped, seen[p, slot], atol=1e-12)
+                checked += 1
+    assert checked > 0
+    with pytest.raises(ValueError, match="state"):
+        topo.kernel.image_points(state[:-1], corners, 1, 0)
