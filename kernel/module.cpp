@@ -6,6 +6,7 @@ namespace py = pybind11;
 void export_chain(py::module_& m);
 void export_topology(py::module_& m);
 void export_hexagon(py::module_& m);
+void export_random_hexagon(py::module_& m);
 void export_montecarlo(py::module_& m);
 
 PYBIND11_MODULE(_kernel, m) {
@@ -13,5 +14,6 @@ PYBIND11_MODULE(_kernel, m) {
     export_chain(m);
     export_topology(m);
     export_hexagon(m);
+    export_random_hexagon(m);
     export_montecarlo(m);
 }

@@ -85,7 +85,7 @@ def relax(particle, topology: Topology, method: str = "lbfgs", tol: float = 1e-5
 
     Parameters
     ----------
-    particle : Hexagon
+    particle : Hexagon or RandomHexagon
     topology : Topology
     method : {"lbfgs", "linear", "newton"}
     tol : float
@@ -130,7 +130,7 @@ def relax(particle, topology: Topology, method: str = "lbfgs", tol: float = 1e-5
         # Every term is non-negative near the reference (the sheet is stable for k_area > -sqrt3 k);
         # a negative energy means the minimiser left that basin (k_area < 0 is unbounded below).
         raise RuntimeError(f"relax({topology.label}): the minimiser escaped the physical minimum (energy "
-                           f"{out['energy']:.3g} < 0, k_area = {particle.k_area:.3g}); try x0='linear' or a larger tol")
+                           f"{out['energy']:.3g} < 0, {particle!r}); try x0='linear' or a larger tol")
     if not out["converged"]:
         warnings.warn(f"relax({topology.label}, method={method!r}) did not converge: {out['status']}, "
                       f"max gradient {out['gradient_norm']:.3g} after {out['iterations']} evaluations",

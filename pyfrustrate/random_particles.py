@@ -1,0 +1,512 @@
+"""Random-elasticity particles (main text "Extension to random particles", Eq. 14; supplement
+sections on drawing M, on predicting ell and on the unsuccessful predictor).
+
+A particle's shape is the vector ``d`` of nine corner distances (``DISTANCE_PAIRS``): the yellow
+triangle's sides, the red triangle's sides and three alternate sides of the hexagon, each triple
+in the order a 120-degree rotation permutes it. Its energy is ``(d - d0)^T M (d - d0) / 2`` with
+``M`` symmetric, positive semi-definite and three-fold symmetric.
+
+Three ways to look at one matrix, from cheap to costly:
+
+``pseudo_moduli``            the supplement's single-particle proxies (kappa_c, K, nu) and the
+                             predictors ``ell_pred`` (via main text Eq. 11) and ``ell_eigen``.
+``boundary_layer_length``    the decay length of the slowest collective mode of a half-plane in
+                             linear response, exactly, from the layer-to-layer transfer problem
+                             (a 16 x 16 eigenvalue problem; NOTES.md).
+``fitted_boundary_layer_length``
+                             the paper's route (Fig. 5b): relax a wide strip and fit the decay
+                             of the excess energy per particle away from an edge.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+
+from . import _kernel
+from .topology import SQRT3
+
+DISTANCE_PAIRS = tuple(tuple(p) for p in _kernel.RandomHexagonModel.distance_pairs)
+HEXAGON_AREA = SQRT3 / 2  # A_0^hex of the supplement's pseudo-modulus (zeroth order in eps)
+
+# Slot s of a particle at rest (bulk reference, eps = 0): 1/sqrt(3) from its site at 30 + 60 s
+# degrees; even slots red, odd yellow (topology.hpp).
+_ANGLES = np.deg2rad(30 + 60 * np.arange(6))
+REST_CORNERS = np.column_stack([np.cos(_ANGLES), np.sin(_ANGLES)]) / SQRT3
+
+# Deformation vectors of the supplement's pseudo-moduli (Eqs. S24-S28).
+_S = 2 ** -1.5
+PSEUDO_MODULUS_VECTORS = {
+    "kappa_c": np.array([0, 0, 0, 0, 0, 0, -SQRT3 / 2, 0, SQRT3 / 2]),
+    "K": np.array([-_S, -_S, -_S, _S, _S, _S, 0, 0, 0]),
+    "K_up": np.array([0.5, 0.5, 0.5, 0, 0, 0, 0, 0, 0]),
+    "mu_up": np.array([0, -SQRT3 / 4, SQRT3 / 4, 0, 0, 0, 0, 0, 0]),
+    "K_down": np.array([0, 0, 0, 0.5, 0.5, 0.5, 0, 0, 0]),
+    "mu_down": np.array([0, 0, 0, SQRT3 / 4, 0, -SQRT3 / 4, 0, 0, 0]),
+}
+
+
+def _rotation_permutation() -> np.ndarray:
+    """Omega of the supplement (block-diagonal 3-cycle) as an index permutation: (Omega d)_i =
+    d[perm[i]]."""
+    block = np.array([2, 0, 1])
+    return np.concatenate([block, block + 3, block + 6])
+
+
+MATRIX_CHUNK = 10_000  # matrices drawn per random stream; matrix i comes from stream i // MATRIX_CHUNK
+
+
+def elasticity_matrices(n: int, seed: int, start: int = 0) -> np.ndarray:
+    """Random elasticity matrices number ``start .. start + n - 1`` of the sample ``seed``,
+    shape (n, 9, 9), by the supplement's procedure: ``M0`` with i.i.d. N(0, 1) entries,
+    ``M1 = (M0 + W M0 W^-1 + W^2 M0 W^-2) / 3`` with ``W`` the block-diagonal 3-cycle,
+    ``M = M1 M1^T``.
+
+    Matrix ``i`` depends only on ``(seed, i)`` (stream ``i // MATRIX_CHUNK`` of the seed), so a
+    sample drawn in pieces, in parallel, or regenerated later for one index, is the same."""
+    for name, value in (("n", n), ("start", start)):
+        if int(value) != value or value < 0:
+            raise ValueError(f"{name} must be a non-negative integer, got {value!r}")
+    n, start = int(n), int(start)
+    p = _rotation_permutation()
+    p2 = p[p]
+    out = np.empty((n, 9, 9))
+    first, last = start // MATRIX_CHUNK, (start + n - 1) // MATRIX_CHUNK
+    for chunk in range(first, last + 1) if n else ():
+        m0 = np.random.default_rng([int(seed), chunk]).standard_normal((MATRIX_CHUNK, 9, 9))
+        lo = max(start, chunk * MATRIX_CHUNK)
+        hi = min(start + n, (chunk + 1) * MATRIX_CHUNK)
+        m0 = m0[lo - chunk * MATRIX_CHUNK:hi - chunk * MATRIX_CHUNK]
+        # W M W^-1 for a permutation matrix W: rows and columns permuted alike.
+        m1 = (m0 + m0[:, p][:, :, p] + m0[:, p2][:, :, p2]) / 3
+        out[lo - start:hi - start] = m1 @ np.swapaxes(m1, -1, -2)
+    return out
+
+
+def rotate_distances(d) -> np.ndarray:
+    """The distances of the same particle turned by 120 degrees (the permutation Omega)."""
+    return np.asarray(d)[..., _rotation_permutation()]
+
+
+def distance_jacobian(corners=REST_CORNERS) -> np.ndarray:
+    """d(distances)/d(corner coordinates), shape (9, 12), at the given corners (rest by default)."""
+    c = np.asarray(corners, float).reshape(6, 2)
+    J = np.zeros((9, 12))
+    for i, (a, b) in enumerate(DISTANCE_PAIRS):
+        u = (c[b] - c[a]) / np.linalg.norm(c[b] - c[a])
+        J[i, 2 * b:2 * b + 2] = u
+        J[i, 2 * a:2 * a + 2] = -u
+    return J
+
+
+def pseudo_moduli(M) -> dict:
+    """Single-particle proxies of the continuum moduli (supplement, "Predicting the boundary
+    layer thickness"), for one matrix (9, 9) or a stack (..., 9, 9).
+
+    ``kappa_c``, ``K``: pseudo-moduli ``dd^T M dd / A_hex`` of a relative shift of the two
+    triangles and of a yellow-shrinks/red-grows bulk change; ``K_up, mu_up, K_down, mu_down``:
+    bulk and shear moduli of each triangle alone (the rest of ``M`` decoupled, which is the
+    affine response of a lattice of such triangles); ``nu_up, nu_down`` = ``(K - mu)/(K + mu)``
+    and their mean ``nu``; ``ell_pred = sqrt(K / ((1 + nu) kappa_c))`` (Eq. S23);
+    ``ell_eigen = 1 / sqrt(lowest eigenvalue of M)`` (the predictor that fails, Fig. S5).
+    For the simple particle they coincide with the continuum mapping up to O(kc/k) (tested).
+    """
+    M = np.asarray(M, float)
+    if M.shape[-2:] != (9, 9):
+        raise ValueError(f"M must have shape (..., 9, 9), got {M.shape}")
+    out = {name: np.einsum("i,...ij,j->...", v, M, v) / HEXAGON_AREA for name, v in PSEUDO_MODULUS_VECTORS.items()}
+    for side in ("up", "down"):
+        K, mu = out[f"K_{side}"], out[f"mu_{side}"]
+        out[f"nu_{side}"] = (K - mu) / (K + mu)
+    out["nu"] = 0.5 * (out["nu_up"] + out["nu_down"])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out["ell_pred"] = np.sqrt(out["K"] / ((1 + out["nu"]) * out["kappa_c"]))
+        lowest = np.linalg.eigvalsh(M)[..., 0]
+        out["ell_eigen"] = 1 / np.sqrt(np.clip(lowest, 0, None))
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# Boundary-layer length from the layer-to-layer transfer problem
+# --------------------------------------------------------------------------------------------
+
+def _slot_lattice_offsets():
+    """Sublattice (0 yellow, 1 red) and row offset j of each slot's corner: yellow corners are
+    Y(i, j) = site(i, j) + (0, 1/sqrt 3), red ones R(i, j) = site(i, j) - (0, 1/sqrt 3)."""
+    sub, row = [], []
+    for s, r in enumerate(REST_CORNERS):
+        colour = 0 if s % 2 else 1
+        y = r[1] - (1 / SQRT3 if colour == 0 else -1 / SQRT3)
+        j = y / (SQRT3 / 2)
+        assert abs(j - round(j)) < 1e-12
+        sub.append(colour)
+        row.append(int(round(j)))
+    return np.array(sub), np.array(row)
+
+
+_SUBLATTICE, _ROW = _slot_lattice_offsets()
+ROW_SPACING = SQRT3 / 2  # rows parallel to an edge along a1
+
+
+def rest_hessian(M) -> np.ndarray:
+    """Hessian of one particle's energy at its rest shape without mismatch, ``J^T M J``
+    (12 x 12; at rest the distances' own curvature carries no force)."""
+    J = distance_jacobian()
+    return J.T @ np.asarray(M, float) @ J
+
+
+def _transfer_blocks(hessian):
+    """Coefficients A_m (m = -2..2, each 4 x 4 over the yellow and red sublattices) of the bulk
+    force balance for displacements phi z^j uniform along rows: sum_m A_m z^m phi = 0."""
+    H = np.asarray(hessian, float).reshape(6, 2, 6, 2)
+    A = np.zeros((5, 4, 4))
+    for s in range(6):
+        for t in range(6):
+            m = _ROW[t] - _ROW[s]
+            a, b = 2 * _SUBLATTICE[s], 2 * _SUBLATTICE[t]
+            A[m + 2, a:a + 2, b:b + 2] += H[s, :, t, :]
+    return A
+
+
+def transfer_roots(hessian) -> np.ndarray:
+    """All roots z of det(sum_m A_m z^m) = 0 (companion linearisation of the quartic matrix
+    polynomial); finite roots, sorted by decreasing modulus."""
+    A = _transfer_blocks(hessian)
+    n, deg = 4, 4
+    # z^2 sum_m A_m z^m = sum_k C_k z^k with C_k = A_{k-2}, k = 0..4: P(z) = C_4 z^4 + ... + C_0.
+    C = A
+    L0 = np.zeros((n * deg, n * deg))
+    L1 = np.eye(n * deg)
+    L0[: n * (deg - 1), n:] = np.eye(n * (deg - 1))
+    for k in range(deg):
+        L0[n * (deg - 1):, n * k:n * (k + 1)] = -C[k]
+    L1[n * (deg - 1):, n * (deg - 1):] = C[deg]
+    z = scipy.linalg.eigvals(L0, L1)
+    z = z[np.isfinite(z)]
+    return z[np.argsort(-np.abs(z))]
+
+
+def boundary_layer_length(M=None, *, hessian=None) -> float:
+    """Boundary-layer length of a half-plane aggregate with its edge along a lattice vector, in
+    linear response: ``-row_spacing / ln|z|`` for the slowest-decaying bulk mode ``z`` (|z| < 1)
+    of the layer-to-layer transfer problem. The four roots at z = 1 (translations and uniform
+    strains) are not decay modes and are dropped.
+
+    Give ``M`` (a random particle) or ``hessian`` (the 12 x 12 rest Hessian of any hexagonal
+    particle, e.g. ``Hexagon.evaluate`` at the regular hexagon with ``eps`` tiny)."""
+    if (M is None) == (hessian is None):
+        raise ValueError("give exactly one of M or hessian")
+    H = rest_hessian(M) if M is not None else np.asarray(hessian, float)
+    if H.shape != (12, 12) or not np.all(np.isfinite(H)):
+        raise ValueError(f"hessian must be a finite (12, 12) array, got shape {H.shape}")
+    z = transfer_roots(H)
+    z = z[np.argsort(np.abs(z - 1))][4:]  # drop the four at z = 1
+    inside = np.abs(z[np.abs(z) < 1])
+    if inside.size == 0:
+        raise RuntimeError("boundary_layer_length: no decaying mode (the particle has a floppy collective mode)")
+    slowest = inside.max()
+    return float(-ROW_SPACING / np.log(slowest)) if slowest > 0 else 0.0
+
+
+def boundary_layer_lengths(Ms, chunk: int = 20000) -> np.ndarray:
+    """``boundary_layer_length`` for a stack of matrices (n, 9, 9), vectorised: the same roots
+    through the scalar polynomial ``P(z) = z^4 det D(z)`` instead of the companion pencil.
+
+    ``P`` has degree 8 and is palindromic (``D(1/z) = D(z)^T``), so ``P(z) / z^4`` is a quartic
+    in ``s = z + 1/z``; its double root ``s = 2`` (the four roots at z = 1) is divided out exactly
+    and the remaining quadratic is solved in closed form. Coefficients come from ``P`` on 16
+    roots of unity (FFT). ~100 times faster than the companion eigenproblem, same values
+    (tested)."""
+    Ms = np.asarray(Ms, float)
+    if Ms.ndim != 3 or Ms.shape[1:] != (9, 9):
+        raise ValueError(f"Ms must have shape (n, 9, 9), got {Ms.shape}")
+    out = np.empty(len(Ms))
+    J = distance_jacobian()
+    w = np.exp(2j * np.pi * np.arange(16) / 16)
+    for start in range(0, len(Ms), chunk):
+        H = np.einsum("ai,nab,bj->nij", J, Ms[start:start + chunk], J)
+        A = _transfer_blocks_batched(H)  # (n, 3, 4, 4): z^-1, z^0, z^1
+        pencil = A[:, None, 0] + A[:, None, 1] * w[None, :, None, None] + A[:, None, 2] * w[None, :, None, None] ** 2
+        c = (np.fft.fft(np.linalg.det(pencil), axis=1) / 16).real[:, :9]  # P(z) = sum_n c_n z^n
+        # P(z)/z^4 = c4 + sum_{n=1..4} c_{4+n} (z^n + z^-n) (palindromic: use both halves).
+        half = 0.5 * (c[:, 5:] + c[:, 3::-1])  # n = 1..4
+        # z^n + z^-n as polynomials in s (highest power first): p0 = 2, p1 = s, p_{n+1} = s p_n - p_{n-1}.
+        p = [np.array([2.0]), np.array([1.0, 0.0])]
+        for _ in range(3):
+            p.append(np.polysub(np.polymul([1.0, 0.0], p[-1]), p[-2]))
+        Q = np.zeros((len(c), 5))
+        Q[:, -1] += c[:, 4]
+        for n in range(1, 5):
+            Q[:, 5 - len(p[n]):] += half[:, n - 1, None] * p[n]
+        # Divide out (s - 2)^2 by synthetic division (twice), keep the quadratic quotient.
+        for _ in range(2):
+            q = np.zeros_like(Q[:, :-1])
+            q[:, 0] = Q[:, 0]
+            for k in range(1, Q.shape[1] - 1):
+                q[:, k] = Q[:, k] + 2 * q[:, k - 1]
+            Q = q
+        a, b, cc = Q[:, 0].astype(complex), Q[:, 1].astype(complex), Q[:, 2].astype(complex)
+        disc = np.sqrt(b * b - 4 * a * cc)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            roots_s = np.stack([(-b + disc) / (2 * a), (-b - disc) / (2 * a)], axis=1)
+            linear = np.abs(a) <= 1e-14 * np.abs(Q).max(axis=1)  # leading coefficient lost: one root
+            roots_s[linear, 0] = -cc[linear] / b[linear]
+            roots_s[linear, 1] = np.nan
+            z = 0.5 * (roots_s - np.sqrt(roots_s * roots_s - 4))
+            z = np.where(np.abs(z) > 1, 1 / z, z)  # the decaying one of the pair z, 1/z
+            slowest = np.nanmax(np.abs(z), axis=1)
+            out[start:start + chunk] = -ROW_SPACING / np.log(slowest)
+    return out
+
+
+def _transfer_blocks_batched(H):
+    """Like ``_transfer_blocks`` for a stack of rest Hessians, in the gauge where red corners
+    carry row index j - 1 (same roots, polynomial degree 2 instead of 4)."""
+    H = H.reshape(-1, 6, 2, 6, 2)
+    row = _ROW - (_SUBLATTICE == 1)
+    A = np.zeros((len(H), 3, 4, 4))
+    for s in range(6):
+        for t in range(6):
+            m = row[t] - row[s]
+            a, b = 2 * _SUBLATTICE[s], 2 * _SUBLATTICE[t]
+            A[:, m + 1, a:a + 2, b:b + 2] += H[:, s, :, t, :]
+    return A
+
+
+# --------------------------------------------------------------------------------------------
+# The particle
+# --------------------------------------------------------------------------------------------
+
+class RandomHexagon:
+    """Hexagonal particle with random elasticity (main text Eq. 14).
+
+    Parameters
+    ----------
+    M : array (9, 9)
+        Symmetric, positive semi-definite elasticity matrix over the distances ``DISTANCE_PAIRS``.
+    eps : float
+        Mismatch, in (0, 1): rest distances ``d0`` are triangle sides ``1 +- eps`` and the
+        hexagon side of the ill-fitting hexagon.
+
+    ``RandomHexagon.draw(seed)`` draws ``M`` as in the supplement. Works with ``relax`` and the
+    topologies of ``pyfrustrate.topology`` like ``Hexagon``.
+    """
+
+    def __init__(self, M, eps: float = 0.01):
+        M = np.array(M, dtype=float)
+        if M.shape != (9, 9):
+            raise ValueError(f"M must have shape (9, 9), got {M.shape}")
+        if not (0 < eps < 1):
+            raise ValueError(f"eps must lie in (0, 1), got {eps!r}")
+        M.setflags(write=False)
+        self.M = M
+        self.eps = float(eps)
+        self._kernel_model = _kernel.RandomHexagonModel(M, self.eps)
+
+    @classmethod
+    def draw(cls, seed: int, index: int = 0, eps: float = 0.01) -> "RandomHexagon":
+        """Particle number ``index`` of the random sample ``seed`` (``elasticity_matrices``)."""
+        return cls(elasticity_matrices(1, seed, start=index)[0], eps)
+
+    @classmethod
+    def from_hexagon(cls, hexagon) -> "RandomHexagon":
+        """The simple particle's linearised energy written as a quadratic form in the distances:
+        ``M = J^+T H J^+`` with ``H`` its Hessian at rest (eps = 0) and ``J`` the distance
+        Jacobian (exact: both vanish on rigid motions). Same linear response, same eps."""
+        rest = _kernel.HexagonModel(hexagon.k, hexagon.kc, hexagon.k_area, 0.0)
+        H = np.asarray(rest.evaluate(REST_CORNERS.ravel())["hessian"])
+        Jp = np.linalg.pinv(distance_jacobian())
+        M = Jp.T @ H @ Jp
+        return cls(0.5 * (M + M.T), hexagon.eps)
+
+    def __reduce__(self):
+        return (type(self), (np.array(self.M), self.eps))
+
+    def __repr__(self):
+        return f"RandomHexagon(eps={self.eps}, ell={self.boundary_layer_length:.3g}, nu={self.moduli['nu']:.3g})"
+
+    @property
+    def moduli(self) -> dict:
+        """``pseudo_moduli(M)`` as floats."""
+        return {k: float(v) for k, v in pseudo_moduli(self.M).items()}
+
+    @property
+    def boundary_layer_length(self) -> float:
+        """``boundary_layer_length(M)``: exact linear-response decay length of a half-plane."""
+        return boundary_layer_length(self.M)
+
+    @property
+    def force_scale(self) -> float:
+        """Typical force on a corner, ``eps * |M|`` (largest eigenvalue): the unit of ``relax``'s
+        tolerance."""
+        return self.eps * float(np.linalg.eigvalsh(self.M)[-1])
+
+    @property
+    def bulk_energy_per_particle(self) -> float:
+        """Exact bulk deformation energy per particle: every hexagon is regular with lattice
+        constant ``a`` (three-fold symmetry), so ``d = a dhat`` and the energy is minimised over
+        ``a`` in closed form."""
+        d0 = np.asarray(self._kernel_model.rest_distances())
+        dhat = np.array([1, 1, 1, 1, 1, 1, 1 / SQRT3, 1 / SQRT3, 1 / SQRT3])
+        stiff = dhat @ self.M @ dhat
+        return float(0.5 * d0 @ self.M @ d0 - 0.5 * (dhat @ self.M @ d0) ** 2 / stiff)
+
+    def evaluate(self, corners) -> dict:
+        """Energy, distances (9,), gradient (12,) and Hessian (12, 12) of one particle from its
+        corners, shape (6, 2) or (12,), slots counter-clockwise from 30 degrees."""
+        c = np.asarray(corners, dtype=float).reshape(12)
+        return self._kernel_model.evaluate(c)
+
+
+# --------------------------------------------------------------------------------------------
+# The paper's route to ell (Fig. 5b): the decay of the excess energy away from an edge
+# --------------------------------------------------------------------------------------------
+
+def edge_energy_profile(particle, width: int) -> tuple[np.ndarray, np.ndarray]:
+    """Excess deformation energy per particle, relative to the interior, against the distance
+    from an edge, on a straight strip of ``width`` rows parallel to a lattice vector (cut 0),
+    in linear response. Returns ``(distance, excess)`` for the rows of one half, both edges
+    added: a free strip of random particles is pulled by a uniform strain O(1/width) and, held
+    straight, by a bending stress odd about its centre; adding the two halves cancels the odd
+    part, and taking the centre as reference removes the uniform one (checked: the fitted
+    length converges in width). ``excess`` is in units of the interior energy per particle."""
+    from .relaxation import particle_corners, particle_energies, relax
+    from .topology import fiber
+    width = int(width)
+    if width < 8:
+        raise ValueError(f"width must be at least 8 rows, got {width}")
+    top = fiber(width, 0, curved=False)
+    r = relax(particle, top, method="linear")
+    e = particle_energies(particle, top, r.state)
+    order = np.argsort(particle_corners(particle, top, r.state).mean(axis=1)[:, 1])
+    e = e[order]
+    both = (e + e[::-1])[: width // 2]
+    distance = (np.arange(width // 2) + 0.5) * ROW_SPACING  # the edge line is half a row out
+    return distance, both / both[-1] - 1
+
+
+def fitted_boundary_layer_length(particle, window=(3.0, 8.0), width=None, iterations: int = 20) -> float:
+    """Boundary-layer length by the paper's protocol (Fig. 5b): the decay length of a
+    log-linear fit of the excess energy per particle against the distance from a strip's edge
+    (``edge_energy_profile``), over ``window`` in units of the length itself, iterated to a
+    fixed point from ``ell_pred``. Near the edge the excess is a sum of decaying modes (for the
+    simple particle ``exp(-d/ell) - exp(-2 d/ell)``, NOTES.md), so a window that starts too
+    close overestimates; for small ell a window holds few rows and the fit is coarse.
+    Compare ``boundary_layer_length`` (exact slowest mode)."""
+    lo, hi = window
+    if not (0 <= lo < hi):
+        raise ValueError(f"window must satisfy 0 <= start < end, got {window!r}")
+    ell = float(pseudo_moduli(particle.M)["ell_pred"]) if hasattr(particle, "M") else particle.continuum.ell
+    if not np.isfinite(ell) or ell <= 0:
+        ell = 1.0
+    width = int(width) if width is not None else int(np.clip(40 * ell, 60, 600))
+    d, excess = edge_energy_profile(particle, width)
+    for _ in range(iterations):
+        inside = (d >= lo * ell) & (d <= hi * ell) & (np.abs(excess) > 0)
+        if inside.sum() < 3:  # at least three rows: extend the window outwards
+            inside = (d >= lo * ell) & (np.abs(excess) > 0)
+            inside &= np.cumsum(inside) <= 3
+        if inside.sum() < 2:
+            raise RuntimeError("fitted_boundary_layer_length: fewer than two rows in the fit window; widen the strip")
+        slope = np.polyfit(d[inside], np.log(np.abs(excess[inside])), 1)[0]
+        new = -1 / slope if slope < 0 else np.inf
+        if not np.isfinite(new) or new > d[-1]:
+            raise RuntimeError(f"fitted_boundary_layer_length: no decay over the strip (fit gave {new:.3g}); widen it")
+        if abs(new - ell) <= 1e-6 * ell:
+            return float(new)
+        ell = new
+    return float(ell)
+
+
+# --------------------------------------------------------------------------------------------
+# Samples
+# --------------------------------------------------------------------------------------------
+
+SAMPLE_FIELDS = ("index", "ell", "ell_pred", "ell_eigen", "nu", "nu_up", "nu_down", "kappa_c", "K")
+
+
+def sample_properties(n: int, seed: int, start: int = 0) -> dict:
+    """Boundary-layer lengths (exact, ``boundary_layer_lengths``), predictors and Poisson ratio
+    of the random particles ``start .. start + n - 1`` of sample ``seed``: a dict of arrays
+    named as ``SAMPLE_FIELDS`` (``index`` regenerates a particle with ``RandomHexagon.draw``)."""
+    M = elasticity_matrices(n, seed, start)
+    out = {k: v for k, v in pseudo_moduli(M).items() if k in SAMPLE_FIELDS}
+    out["ell"] = boundary_layer_lengths(M)
+    out["index"] = np.arange(start, start + n)
+    return {k: out[k] for k in SAMPLE_FIELDS}
+
+
+def select_uniform(values, count: int, bins, seed: int) -> np.ndarray:
+    """Indices into ``values`` of up to ``count`` entries spread evenly over ``bins`` (an equal
+    share per bin, drawn at random without replacement, seeded): the paper's selection of
+    particles with a near-uniform distribution of Poisson ratios (supplement, Fig. S4b). Bins
+    with fewer entries than their share give all they have."""
+    values = np.asarray(values, float)
+    bins = np.asarray(bins, float)
+    rng = np.random.default_rng(seed)
+    which = np.digitize(values, bins) - 1
+    share = int(np.ceil(count / (len(bins) - 1)))
+    chosen = []
+    for b in range(len(bins) - 1):
+        members = np.flatnonzero(which == b)
+        chosen.append(rng.choice(members, size=min(share, members.size), replace=False) if members.size else members)
+    return np.sort(np.concatenate(chosen))
+
+
+# --------------------------------------------------------------------------------------------
+# Aggregation of random particles (Figs. 5d, 6, S2)
+# --------------------------------------------------------------------------------------------
+
+PHASE_CODES = ("bulk_with_holes", "disk", "fiber", "bulk")
+
+
+def binding_energy(particle, Gamma, ell: float, nu: float):
+    """Binding energy ``g`` per bound pair of sides giving line tension ``Gamma`` to a particle
+    of boundary-layer length ``ell`` and Poisson ratio ``nu``: main text
+    ``Gamma = 2 gamma / ((1 + nu) ell e_bulk)`` with ``gamma = g`` (the convention measured in
+    ``ansatz``) and ``e_bulk`` the bulk deformation energy per unit reference area."""
+    from .topology import AREA_PER_PARTICLE
+    if not (np.isfinite(ell) and ell > 0):
+        raise ValueError(f"ell must be positive and finite, got {ell!r}")
+    if not (-1 < nu < 1):
+        raise ValueError(f"nu must lie in (-1, 1), got {nu!r}")
+    e_bulk = particle.bulk_energy_per_particle / AREA_PER_PARTICLE
+    return 0.5 * np.asarray(Gamma, float) * (1 + nu) * ell * e_bulk
+
+
+def catalogue_for(ell: float, radius_per_ell=6.0, width_per_ell=8.0, radius_limits=(6, 40), width_limits=(10, 60)):
+    """The pre-made aggregates for a particle of boundary-layer length ``ell``: disks and fibres
+    out to a few ``ell`` (optimal sizes are ~ell, main text Fig. 5d), within limits."""
+    from .ansatz import catalogue
+    R = int(np.clip(np.ceil(radius_per_ell * ell), *radius_limits))
+    W = int(np.clip(np.ceil(width_per_ell * ell), *width_limits))
+    return catalogue(R, W)
+
+
+def aggregation_line(particle, Gamma, ell: float, nu: float, candidates=None, method: str = "linear",
+                     relative: bool = False) -> dict:
+    """One particle's line of an aggregation diagram (main text Fig. 6) and its optimal sizes
+    (Fig. 5d): every candidate of ``catalogue_for(ell)`` relaxed once, then at each ``Gamma``
+
+    ``phase``       index into ``PHASE_CODES`` of the lowest total energy per particle;
+    ``width``       W* of the best fibre among fibres (continuum width, lattice units);
+    ``radius``      R* of the best disk among disks and the single particle;
+    ``Gamma_max``   the line tension above which the bulk wins (exact: every total energy is
+                    linear in g, so it is the largest crossing of the bulk with another candidate).
+
+    ``relative=True`` reads ``Gamma`` in units of ``Gamma_max`` (Fig. S2). ``method='linear'`` is
+    exact as eps -> 0, where Gamma captures all of the eps dependence."""
+    from .ansatz import FAMILY_PHASE, relax_catalogue
+    candidates = catalogue_for(ell) if candidates is None else candidates
+    energies = relax_catalogue(particle, candidates, method=method)
+    bulk = np.flatnonzero(energies.family == "bulk")[0]
+    others = energies.bonds < energies.bonds[bulk]
+    g_max = np.max((energies.deformation[bulk] - energies.deformation[others]) / (energies.bonds[bulk] - energies.bonds[others]))
+    Gamma_max = float(g_max / binding_energy(particle, 1.0, ell, nu))
+    g = binding_energy(particle, np.asarray(Gamma, float) * (Gamma_max if relative else 1.0), ell, nu)
+    phase_of = np.array([PHASE_CODES.index(FAMILY_PHASE[f]) for f in energies.family])
+    fibers = [f for f in set(energies.family.tolist()) if f.startswith("fiber")]
+    best_fiber = energies.winners(g, fibers)
+    best_disk = energies.winners(g, ["single", "disk"])
+    return {"phase": phase_of[energies.winners(g)].astype(np.int8), "width": energies.length[best_fiber],
+            "radius": energies.length[best_disk], "Gamma_max": Gamma_max,
+            "converged": bool(energies.converged.all())}

@@ -1,0 +1,135 @@
+# Random-elasticity particles (Figs. 5, 6, S2, S3, S5). The sample of elasticity matrices is drawn
+# in batches (matrix i depends only on the seed and i, so batches are independent jobs); a
+# summary and a selection are made from all of them; aggregation diagrams are computed for the
+# selected particles, a batch per job.
+RANDOM = config["random"]
+RANDOM_BATCHES = range(-(-RANDOM["draws"] // RANDOM["batch"]))
+RANDOM_SETS = {"sizes": RANDOM["size_particles"]} | {f"group{i}": c for i, c in enumerate(RANDOM["group_counts"])}
+
+
+def random_diagram_files(name):
+    return [f"results/random/diagrams/{name}_{b}.npz" for b in range(-(-RANDOM_SETS[name] // RANDOM["diagram_batch"]))]
+
+
+rule random_sample_batch:
+    output:
+        "results/random/sample/batch{batch}.npz",
+    params:
+        start=lambda w: int(w.batch) * RANDOM["batch"],
+        size=lambda w: min(RANDOM["batch"], RANDOM["draws"] - int(w.batch) * RANDOM["batch"]),
+        settings=RANDOM,
+    log:
+        "results/logs/random/sample_batch{batch}.log",
+    script:
+        "../scripts/random_sample_batch.py"
+
+
+rule random_summary:
+    input:
+        [f"results/random/sample/batch{b}.npz" for b in RANDOM_BATCHES],
+    output:
+        summary="results/random/summary.npz",
+        selection="results/random/selection.npz",
+    params:
+        settings=RANDOM,
+    log:
+        "results/logs/random/summary.log",
+    script:
+        "../scripts/random_summary.py"
+
+
+rule random_fits:
+    input:
+        rules.random_summary.output.summary,
+    output:
+        "results/random/fits.npz",
+    params:
+        settings=RANDOM,
+    log:
+        "results/logs/random/fits.log",
+    script:
+        "../scripts/random_fits.py"
+
+
+rule random_diagram_batch:
+    input:
+        rules.random_summary.output.selection,
+    output:
+        "results/random/diagrams/{set}_{batch}.npz",
+    params:
+        batch=lambda w: int(w.batch),
+        settings=RANDOM,
+    wildcard_constraints:
+        set="sizes|group[0-9]+",
+    log:
+        "results/logs/random/diagram_{set}_{batch}.log",
+    script:
+        "../scripts/random_diagram_batch.py"
+
+
+rule fig5_random:
+    input:
+        summary=rules.random_summary.output.summary,
+        fits=rules.random_fits.output,
+        sizes=random_diagram_files("sizes"),
+    output:
+        pdf=f"{FIGURES}/fig5_random.pdf",
+        png=f"{FIGURES}/fig5_random.png",
+    log:
+        "results/logs/fig5_random.log",
+    script:
+        "../../figures/fig5_random.py"
+
+
+rule figS2_random_sizes:
+    input:
+        sizes=random_diagram_files("sizes"),
+    output:
+        pdf=f"{FIGURES}/figS2_random_sizes.pdf",
+        png=f"{FIGURES}/figS2_random_sizes.png",
+    log:
+        "results/logs/figS2_random_sizes.log",
+    script:
+        "../../figures/figS2_random_sizes.py"
+
+
+rule fig6_random_diagrams:
+    input:
+        groups=[random_diagram_files(f"group{i}") for i in range(len(RANDOM["group_counts"]))],
+        continuum=rules.continuum_phase_diagram.output,
+    output:
+        pdf=f"{FIGURES}/fig6_random_diagrams.pdf",
+        png=f"{FIGURES}/fig6_random_diagrams.png",
+    params:
+        settings=RANDOM,
+    log:
+        "results/logs/fig6_random_diagrams.log",
+    script:
+        "../../figures/fig6_random_diagrams.py"
+
+
+rule figS3_random_histograms:
+    input:
+        summary=rules.random_summary.output.summary,
+        selection=rules.random_summary.output.selection,
+    output:
+        pdf=f"{FIGURES}/figS3_random_histograms.pdf",
+        png=f"{FIGURES}/figS3_random_histograms.png",
+    params:
+        settings=RANDOM,
+    log:
+        "results/logs/figS3_random_histograms.log",
+    script:
+        "../../figures/figS3_random_histograms.py"
+
+
+rule figS5_ell_eigen:
+    input:
+        summary=rules.random_summary.output.summary,
+    output:
+        pdf=f"{FIGURES}/figS5_ell_eigen.pdf",
+        png=f"{FIGURES}/figS5_ell_eigen.png",
+    log:
+        "results/logs/figS5_ell_eigen.log",
+    script:
+        "../../figures/figS5_ell_eigen.py"

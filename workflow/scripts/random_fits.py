@@ -1,0 +1,38 @@
+"""The paper's route to ell (Fig. 5b): the edge energy profile of a relaxed strip, fitted, for a
+subsample of random particles, beside the exact transfer-problem ell; and one example profile."""
+import numpy as np
+from tqdm.auto import tqdm
+
+from pyfrustrate import random_particles as rp
+from pyfrustrate.io import load_npz, logging_to, save_npz
+from pyfrustrate.relaxation import particle_corners, particle_energies, periodic_images, relax
+from pyfrustrate.topology import fiber
+
+s = snakemake.params.settings  # noqa: F821
+FIT_EPS = 1e-4  # the fit looks at excess energies down to ~1e-4 of the bulk value: stay linear
+with logging_to(snakemake.log[0]):  # noqa: F821
+    summary = load_npz(snakemake.input[0])  # noqa: F821
+    index = summary["plotted_index"][: s["fits"]]
+    fitted = np.full(len(index), np.nan)
+    for k, i in enumerate(tqdm(index, desc="strip fits", unit="particle", mininterval=2)):
+        try:
+            fitted[k] = rp.fitted_boundary_layer_length(rp.RandomHexagon.draw(s["seed"], int(i), eps=FIT_EPS))
+        except RuntimeError as err:
+            print(f"particle {i}: {err}")
+    exact = summary["plotted_ell"][: s["fits"]].astype(float)
+    print(f"fitted/exact: median {np.nanmedian(fitted / exact):.4f}, failed fits {int(np.isnan(fitted).sum())}")
+
+    # Example (panel b): the particle of the subsample with ell nearest 2.
+    example = int(summary["plotted_index"][np.argmin(np.abs(summary["plotted_ell"] - 2.0))])
+    particle = rp.RandomHexagon.draw(s["seed"], example, eps=FIT_EPS)
+    width = 80
+    distance, excess = rp.edge_energy_profile(particle, width)
+    top = fiber(width, 0, curved=False)
+    r = relax(particle, top, method="linear")
+    periods = range(-12, 13)  # enough images of the one-column cell to draw a patch of the strip
+    corners = periodic_images(top, r.state, particle_corners(particle, top, r.state), periods)
+    energy = np.tile(particle_energies(particle, top, r.state) / particle.bulk_energy_per_particle, len(periods))
+    save_npz(snakemake.output[0], index=index, fitted=fitted, exact=exact,  # noqa: F821
+             example_index=example, example_ell=particle.boundary_layer_length,
+             example_fitted=rp.fitted_boundary_layer_length(particle), example_distance=distance,
+             example_excess=excess, example_corners=corners, example_energy=energy)
