@@ -133,3 +133,13 @@ rule figS5_ell_eigen:
         "results/logs/figS5_ell_eigen.log",
     script:
         "../../figures/figS5_ell_eigen.py"
+
+
+rule figS4_pseudo_moduli:
+    output:
+        pdf=f"{FIGURES}/figS4_pseudo_moduli.pdf",
+        png=f"{FIGURES}/figS4_pseudo_moduli.png",
+    log:
+        "results/logs/figS4_pseudo_moduli.log",
+    script:
+        "../../figures/figS4_pseudo_moduli.py"
