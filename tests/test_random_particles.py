@@ -279,3 +279,15 @@ def test_gamma_max_is_where_the_bulk_starts_to_win():
     around = rp.aggregation_line(p, np.array([0.999 * gm, 1.001 * gm]), ell, nu)
     assert around["phase"][0] != rp.PHASE_CODES.index("bulk")
     assert around["phase"][1] == rp.PHASE_CODES.index("bulk")
+
+
+def test_strip_protocol_rejects_bad_settings():
+    p = rp.RandomHexagon.draw(51, eps=1e-4)
+    with pytest.raises(ValueError, match="width"):
+        rp.edge_energy_profile(p, 4)
+    with pytest.raises(ValueError, match="window"):
+        rp.fitted_boundary_layer_length(p, window=(5.0, 2.0))
+    with pytest.raises(ValueError, match="exactly one"):
+        rp.boundary_layer_length()
+    with pytest.raises(ValueError, match="Ms must have shape"):
+        rp.boundary_layer_lengths(np.eye(9))
