@@ -4,7 +4,8 @@ nu = 0.9 (fibres) and nu = 0.4 (disks).
 
 For each parameter set:
 
-1. one paper-size annealing run (``pyfrustrate.anneal`` with its defaults: linear solves, cluster
+1. one paper-size annealing run (``pyfrustrate.anneal`` with its defaults: L-BFGS cluster energies
+   at tol 1e-3 warm-started from the linear solve, cluster
    cache, delayed acceptance, linear schedule from T0 = g to 0): its time, final energy and
    clusters, cache hit rate and counters;
 2. attempted moves per second from two states of the system, a mid-annealing one (a random
