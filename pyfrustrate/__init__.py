@@ -5,12 +5,15 @@ self-assembly in deformable particles", Phys. Rev. X 15, 011022 (2025).
 
 Main entry points: ``Hexagon`` (the particle), ``topology`` (aggregates), ``relax`` (minimum
 deformation energy at fixed topology), ``continuum`` (the analytic theory), ``chain`` (the 1D
-toy model).
+toy model), ``anneal`` (Monte Carlo of topologies), ``random_particles`` and ``RandomHexagon``
+(random-elasticity particles).
 """
-from . import chain, continuum, topology
+from . import chain, continuum, random_particles, topology
 from .particles import Hexagon
 from .relaxation import ConvergenceWarning, Relaxation, relax
 from .montecarlo import AnnealResult, anneal
+from .random_particles import RandomHexagon
 
 __version__ = "0.1.0"
-__all__ = ["chain", "continuum", "topology", "Hexagon", "relax", "Relaxation", "ConvergenceWarning", "anneal", "AnnealResult"]
+__all__ = ["chain", "continuum", "topology", "random_particles", "Hexagon", "RandomHexagon", "relax", "Relaxation",
+           "ConvergenceWarning", "anneal", "AnnealResult"]

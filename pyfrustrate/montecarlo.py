@@ -328,8 +328,11 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     Bad input raises ``ValueError`` naming the parameter.
     """
     model = getattr(particle, "_kernel_model", None)
-    if model is None:
-        raise ValueError(f"particle must be a pyfrustrate particle (e.g. Hexagon), got {particle!r}")
+    if not isinstance(model, _kernel.HexagonModel):
+        # The cache keys shapes up to the lattice's D3 symmetry, which the simple hexagon shares;
+        # a random particle has only C3 (M has no mirror symmetry), so its mirror images differ.
+        raise ValueError(f"particle must be a Hexagon (Monte Carlo keys cluster shapes by the D3 symmetry of "
+                         f"that particle), got {particle!r}")
     box = _integer("box", box, 2, 30000)
     n = _integer("n", n, 1)
     if n >= box * box:

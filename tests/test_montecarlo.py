@@ -363,6 +363,12 @@ def test_bad_input_names_the_parameter(particle, g, kw, name):
         small_anneal(particle, **kw)
 
 
+def test_random_particles_are_refused_with_a_reason(g):
+    # The shape cache identifies mirror images (D3), which a random particle does not allow.
+    with pytest.raises(ValueError, match="particle must be a Hexagon"):
+        pyfrustrate.anneal(pyfrustrate.RandomHexagon.draw(1), g, box=12, n=10, steps=10, progress=False)
+
+
 def test_kernel_bad_input(particle, g):
     with pytest.raises(ValueError, match="box"):
         kernel_mc(particle, g, 1, 1, 0)
