@@ -16,10 +16,9 @@ def draw_distances(ax):
     angles = np.deg2rad(30 + 60 * np.arange(6))
     radius = np.where(np.arange(6) % 2, 1 + eps, 1 - eps) / np.sqrt(3)
     c = np.column_stack([radius * np.cos(angles), radius * np.sin(angles)])
-    colors = [plotting.YELLOW] * 3 + [plotting.RED_CORNER] * 3 + [plotting.BLUE_SPRING] * 3
     hexagon = np.vstack([c, c[:1]])
     ax.plot(*hexagon.T, color=plotting.BLUE_SPRING, lw=0.6, ls=":", zorder=0)
-    for i, ((a, b), color) in enumerate(zip(rp.DISTANCE_PAIRS, colors)):
+    for i, ((a, b), color) in enumerate(zip(rp.DISTANCE_PAIRS, plotting.DISTANCE_COLORS)):
         ax.plot(*c[[a, b]].T, color=color, lw=1.6, zorder=1)
         # Label beside the segment, on the side away from the centre.
         mid = 0.5 * (c[a] + c[b])
@@ -29,7 +28,7 @@ def draw_distances(ax):
         offset = 0.11 if i >= 6 else 0.07
         ax.text(*(mid + offset * normal), rf"$d_{i + 1}$", ha="center", va="center", fontsize=7,
                 color="k", bbox=dict(boxstyle="round,pad=0.05", fc="w", ec="none", alpha=0.7))
-    ax.scatter(*c.T, c=[plotting.RED_CORNER if s % 2 == 0 else plotting.YELLOW for s in range(6)], s=22,
+    ax.scatter(*c.T, c=plotting.CORNER_COLORS, s=22,
                edgecolors="k", linewidths=0.5, zorder=2)
     ax.set_aspect("equal")
     ax.set_xlim(-0.85, 0.85)

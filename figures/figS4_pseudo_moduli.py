@@ -29,11 +29,11 @@ def main(outputs, ell=5.0, nu=0.5, magnify=0.35):
         ax = fig.add_subplot(2, 3, k + 1)
         u = (Jp @ rp.PSEUDO_MODULUS_VECTORS[name]).reshape(6, 2)
         moved = rest + magnify * u
-        for (a, b), color in zip(rp.DISTANCE_PAIRS, [plotting.YELLOW] * 3 + [plotting.RED_CORNER] * 3 + [plotting.BLUE_SPRING] * 3):
+        for (a, b), color in zip(rp.DISTANCE_PAIRS, plotting.DISTANCE_COLORS):
             ax.plot(*rest[[a, b]].T, color=color, lw=0.8, alpha=0.35)
             ax.plot(*moved[[a, b]].T, color=color, lw=1.5)
         ax.quiver(*rest.T, *(magnify * u).T, angles="xy", scale_units="xy", scale=1, width=0.012, color="k")
-        ax.scatter(*rest.T, c=[plotting.RED_CORNER if s % 2 == 0 else plotting.YELLOW for s in range(6)], s=12,
+        ax.scatter(*rest.T, c=plotting.CORNER_COLORS, s=12,
                    edgecolors="k", linewidths=0.4, zorder=3)
         ax.set_aspect("equal")
         ax.set_xlim(-0.95, 0.95)

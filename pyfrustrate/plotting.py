@@ -14,6 +14,10 @@ from .io import atomic_path  # noqa: E402
 PHASE_COLORS = {"bulk_with_holes": "#1a1a1a", "disk": "#d3002d", "fiber": "#007e94", "bulk": "#7b3294",
                 "single": "#9e9e9e"}
 YELLOW, RED_CORNER, BLUE_SPRING = "#e6b800", "#d3002d", "#3b78c2"
+# Colour of each corner slot (even slots red, odd yellow) and of each of the nine distances of
+# a random particle (random_particles.DISTANCE_PAIRS: yellow sides, red sides, hexagon sides).
+CORNER_COLORS = [RED_CORNER, YELLOW] * 3
+DISTANCE_COLORS = [YELLOW] * 3 + [RED_CORNER] * 3 + [BLUE_SPRING] * 3
 
 STYLE = {
     "font.size": 9, "axes.labelsize": 9, "axes.titlesize": 9, "legend.fontsize": 8,
