@@ -28,6 +28,8 @@ py::dict counters_dict(const MonteCarloCounters& c) {
     d["attempted"] = c.attempted;
     d["accepted"] = c.accepted;
     d["screened"] = c.screened;
+    d["cluster_attempted"] = c.cluster_attempted;
+    d["cluster_accepted"] = c.cluster_accepted;
     d["cache_hits"] = c.cache_hits;
     d["cache_misses"] = c.cache_misses;
     d["cache_clears"] = c.cache_clears;
@@ -48,7 +50,7 @@ void export_montecarlo(py::module_& m) {
                           "by shape up to translations and D3.")
         .def(py::init([](const HexagonModel& model, double g, int box, int n, std::uint64_t seed, const std::string& method,
                          double tol, int max_iter, bool cache, bool warm_start, bool incremental, std::size_t cache_limit,
-                         bool delayed_acceptance, double bond_deformation) {
+                         bool delayed_acceptance, double bond_deformation, double cluster_moves) {
                  MonteCarloOptions o;
                  if (method == "linear") o.relax.method = RelaxMethod::Linear;
                  else if (method == "lbfgs") o.relax.method = RelaxMethod::Lbfgs;
@@ -66,16 +68,20 @@ void export_montecarlo(py::module_& m) {
                  if (!std::isfinite(bond_deformation)) throw std::invalid_argument("bond_deformation must be finite");
                  o.delayed_acceptance = delayed_acceptance;
                  o.bond_deformation = bond_deformation;
+                 if (!(cluster_moves >= 0 && cluster_moves <= 1))
+                     throw std::invalid_argument("cluster_moves must lie in [0, 1], got " + std::to_string(cluster_moves));
+                 o.cluster_moves = cluster_moves;
                  return new HexagonMC(model, g, box, n, seed, o);
              }),
              py::arg("model"), py::arg("g"), py::arg("box"), py::arg("n"), py::arg("seed"), py::arg("method") = "linear",
              py::arg("tol") = 1e-7, py::arg("max_iter") = 100000, py::arg("cache") = true, py::arg("warm_start") = true,
              py::arg("incremental") = true, py::arg("cache_limit") = std::size_t(1) << 24,
-             py::arg("delayed_acceptance") = true, py::arg("bond_deformation") = 0.0,
+             py::arg("delayed_acceptance") = true, py::arg("bond_deformation") = 0.0, py::arg("cluster_moves") = 0.0,
              "Random initial placement drawn from the seeded std::mt19937_64. tol is the absolute L-BFGS gradient "
              "tolerance (NLopt works in units of the model's step_scale); cache_limit the stored key entries before the cache is cleared; delayed_acceptance screens "
              "moves with the surrogate energy -(g - bond_deformation) * bonds before relaxing anything (same "
-             "Boltzmann distribution); incremental=False re-minimises every cluster of the box on every move.")
+             "Boltzmann distribution); cluster_moves is the probability of a cluster translation (shape and energy "
+             "unchanged, rejected on any overlap or new contact); incremental=False re-minimises every cluster of the box on every move.")
         .def(
             "run",
             [](HexagonMC& mc, py::array_t<double, py::array::c_style | py::array::forcecast> temperatures,
@@ -152,11 +158,13 @@ void export_montecarlo(py::module_& m) {
                 auto get = [&](const char* k) { return d.contains(k) ? d[k].cast<std::int64_t>() : std::int64_t(0); };
                 MonteCarloCounters& c = mc.counters;
                 c.attempted = get("attempted"), c.accepted = get("accepted"), c.screened = get("screened");
+                c.cluster_attempted = get("cluster_attempted"), c.cluster_accepted = get("cluster_accepted");
                 c.cache_hits = get("cache_hits"), c.cache_misses = get("cache_misses"), c.cache_clears = get("cache_clears");
                 c.relax.minimisations = get("minimisations"), c.relax.evaluations = get("evaluations");
                 c.relax.fallbacks = get("fallbacks"), c.relax.unconverged = get("unconverged");
             },
-            "attempted, accepted, screened (rejected by the surrogate), cache_hits, cache_misses, cache_clears, minimisations, evaluations (energy+gradient "
+            "attempted, accepted, screened (rejected by the surrogate), cluster_attempted, cluster_accepted (cluster "
+            "translations, counted in attempted/accepted too), cache_hits, cache_misses, cache_clears, minimisations, evaluations (energy+gradient "
             "evaluations, 1 per linear solve), fallbacks (linear solve refused, done by L-BFGS), unconverged.")
         .def_property_readonly("cache_size", &HexagonMC::cache_size)
         .def("clear_cache", &HexagonMC::clear_cache);

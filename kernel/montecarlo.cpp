@@ -360,6 +360,55 @@ double MonteCarlo<Model>::box_energy(bool canonical) {
 template <class Model>
 bool MonteCarlo<Model>::step(double T) {
     ++counters.attempted;
+    // No deviate is drawn without cluster moves, so particle-move chains keep their sequence.
+    if (options_.cluster_moves > 0 && uniform01() < options_.cluster_moves) return cluster_step();
+    return particle_step(T);
+}
+
+template <class Model>
+bool MonteCarlo<Model>::cluster_step() {
+    ++counters.cluster_attempted;
+    const int a = particles_[uniform_index(particles_.size())];
+    const int L = box_.L;
+    const int di = static_cast<int>(uniform_index(L)), dj = static_cast<int>(uniform_index(L));
+    if (di == 0 && dj == 0) return false;
+    ws_.new_round();
+    const Cluster cl = find_cluster(box_, occupant_, a, ws_);
+    if (cl.rank() > 0) return false;  // a wrapped cluster is periodic: a shift changes nothing
+    const int id = label_[a];
+    std::vector<int> targets;
+    targets.reserve(cl.members.size());
+    for (const int m : cl.members) {
+        const LatticeVector c = box_.coords(m);
+        const int t = box_.index(c[0] + di, c[1] + dj);
+        // The target and its neighbours must be empty or in the cluster itself (those sites are
+        // vacated or re-filled by it): no overlap, no new contact, so no energy change. The
+        // cluster's sites are the ones marked by the search just done.
+        if (occupant_[t] >= 0 && !ws_.seen(t)) return false;
+        for (int d = 0; d < 6; ++d) {
+            const int u = box_.next(t, d);
+            if (occupant_[u] >= 0 && !ws_.seen(u)) return false;
+        }
+        targets.push_back(t);
+    }
+    std::vector<int> moved(cl.members.size());
+    for (std::size_t k = 0; k < cl.members.size(); ++k) {
+        moved[k] = occupant_[cl.members[k]];
+        occupant_[cl.members[k]] = -1;
+        label_[cl.members[k]] = -1;
+    }
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+        occupant_[targets[k]] = moved[k];
+        label_[targets[k]] = id;
+        particles_[moved[k]] = targets[k];
+    }
+    ++counters.accepted;
+    ++counters.cluster_accepted;
+    return true;
+}
+
+template <class Model>
+bool MonteCarlo<Model>::particle_step(double T) {
     const int p = static_cast<int>(uniform_index(particles_.size()));
     const int a = particles_[p];
     const int b = random_empty_site();

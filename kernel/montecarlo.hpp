@@ -183,6 +183,13 @@ struct MonteCarloOptions {
     // mostly screened out). false: plain Metropolis, min(1, exp(-dE / T)).
     bool delayed_acceptance = true;
     double bond_deformation = 0.0;  // surrogate deformation energy per bond (bulk: e_b / 3)
+    // Probability that an attempted move is a cluster translation instead of a particle move: a
+    // random particle's (finite) cluster is shifted by a uniformly random lattice vector of the
+    // box, and the shift is accepted iff the cluster lands on empty sites without touching any
+    // other particle. Shape, bonds and energy are unchanged and the proposal is symmetric, so
+    // the Boltzmann distribution is unchanged; aggregates diffuse across the box and meet,
+    // where single-particle moves alone leave them to ripen slowly. 0: particle moves only.
+    double cluster_moves = 0.0;
     bool cache = true;        // cache relaxed energies by canonical shape
     bool incremental = true;  // false: re-minimise every cluster of the box on every move
                               // (the naive baseline of the benchmark; no cache either)
@@ -192,6 +199,7 @@ struct MonteCarloOptions {
 struct MonteCarloCounters {
     std::int64_t attempted = 0, accepted = 0;
     std::int64_t screened = 0;  // rejected by the surrogate, without relaxing anything
+    std::int64_t cluster_attempted = 0, cluster_accepted = 0;  // cluster translations (within attempted/accepted)
     std::int64_t cache_hits = 0, cache_misses = 0, cache_clears = 0;
     RelaxCounters relax;
 };
@@ -210,8 +218,9 @@ public:
     void place(const std::vector<LatticeVector>& sites);
 
     // One attempted move at temperature T >= 0 (Metropolis, or delayed acceptance; at T = 0 a
-    // move is accepted iff dE <= 0, resp. dE_s <= 0 and dE <= dE_s), and `steps` of them; run
-    // returns the number accepted.
+    // move is accepted iff dE <= 0, resp. dE_s <= 0 and dE <= dE_s), or with probability
+    // options.cluster_moves a cluster translation; and `steps` of them; run returns the number
+    // accepted.
     bool step(double T);
     std::int64_t run(double T, std::int64_t steps);
 
@@ -245,6 +254,8 @@ private:
     std::uint64_t uniform_index(std::uint64_t n);  // unbiased, in [0, n)
     double uniform01();                            // in [0, 1), 53 bits
     int random_empty_site();
+    bool particle_step(double T);
+    bool cluster_step();
     double shape_energy(const ShapeKey& key, const Cluster& cluster);  // from the key's representative
     double raw_energy(const Cluster& cluster);                        // from the sites as found
     double scratch_deformation(bool canonical, bool cached, bool relabel);

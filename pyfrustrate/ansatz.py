@@ -136,3 +136,61 @@ def edge_line_tension(cut: int) -> float:
     t = topology.fiber(width, cut, curved=False)
     period = np.linalg.norm(topology.site_positions([topology.FIBER_AXES[cut]])[0])
     return (3 * width - t.n_bonds) / (2 * period)
+
+
+#: Default segment lengths of ``finite_aggregates``, in units of sqrt(n): from a near-circular
+#: aggregate (0) to a strip about ten times longer than wide (4).
+FINITE_SEGMENTS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0)
+
+
+@dataclass(frozen=True)
+class FiniteAggregates:
+    """Relaxed single aggregates of exactly ``n`` particles, from compact to elongated
+    (``topology.stadium_sites``): what a Monte Carlo box of ``n`` particles can form.
+
+    The infinite-system catalogue says which structure wins per particle; at the particle numbers
+    of a simulation a fibre of optimal width ``W*`` may not fit, and the best single aggregate is
+    then more compact. Arrays have one entry per shape: ``segment`` (lattice units),
+    ``deformation`` (total relaxed deformation energy), ``bonds`` (bound pairs of sides),
+    ``width``/``length`` (``topology.gyration_dimensions``), ``converged``. Splitting into
+    several aggregates is not considered.
+    """
+
+    n: int
+    segment: np.ndarray
+    sites: tuple
+    deformation: np.ndarray
+    bonds: np.ndarray
+    width: np.ndarray
+    length: np.ndarray
+    converged: np.ndarray
+
+    def total(self, g) -> np.ndarray:
+        """Total energy ``deformation - g * bonds`` of each shape, shape (n_shapes, *shape(g))."""
+        g = np.asarray(g, float)
+        return self.deformation.reshape((-1,) + (1,) * g.ndim) - np.multiply.outer(self.bonds, g)
+
+    def best(self, g) -> np.ndarray:
+        """Index of the lowest-energy shape at each binding energy ``g``."""
+        return np.argmin(self.total(g), axis=0)
+
+
+def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", tol: float = 1e-5) -> FiniteAggregates:
+    """Relax the one-parameter family of single ``n``-particle aggregates, ``segments`` the
+    lengths of their core segments (default ``FINITE_SEGMENTS * sqrt(n)``). Finite-size
+    prediction for Monte Carlo: the best shape at binding energy ``g`` is ``best(g)``."""
+    if segments is None:
+        segments = np.asarray(FINITE_SEGMENTS) * np.sqrt(n)
+    segments = np.atleast_1d(np.asarray(segments, float))
+    if segments.ndim != 1 or segments.size == 0:
+        raise ValueError(f"segments must be a non-empty 1D sequence, got shape {segments.shape}")
+    rows, shapes = [], []
+    for segment in segments:
+        sites = topology.stadium_sites(n, segment)
+        kwargs = {"x0": "linear"} if method == "lbfgs" else {}
+        r = relax(particle, topology.cluster(sites), method=method, tol=tol, **kwargs)
+        shapes.append(sites)
+        rows.append((r.energy, r.n_bonds, *topology.gyration_dimensions(sites), r.converged))
+    cols = list(zip(*rows))
+    return FiniteAggregates(int(n), segments, tuple(shapes), np.array(cols[0], float), np.array(cols[1], int),
+                            np.array(cols[2], float), np.array(cols[3], float), np.array(cols[4], bool))

@@ -245,7 +245,8 @@ def _read_checkpoint(path, signature):
         data = pickle.load(f)
     if not isinstance(data, dict) or data.get("version") != _CHECKPOINT_VERSION:
         raise ValueError(f"checkpoint: {path} is not a pyfrustrate.anneal checkpoint (version {_CHECKPOINT_VERSION})")
-    saved = data["signature"]
+    saved = dict(data["signature"])
+    saved.setdefault("cluster_moves", 0.0)  # checkpoints written before cluster moves existed
     differ = sorted(k for k in set(saved) | set(signature) if saved.get(k) != signature.get(k))
     if differ:
         raise ValueError(f"checkpoint: {path} was written by a run with different parameters ({', '.join(differ)}); "
@@ -259,7 +260,7 @@ def _read_checkpoint(path, signature):
 
 def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None, method="lbfgs", tol=1e-3,
            checkpoint=None, progress=True, *, T0=None, T_end=None, record_every=None, checkpoint_interval=60.0,
-           cache=True, warm_start=True, delayed_acceptance=True, max_iter=100_000,
+           cache=True, warm_start=True, delayed_acceptance=True, cluster_moves=0.0, max_iter=100_000,
            callback=None) -> AnnealResult:
     """Simulated annealing of the topology of ``n`` particles in a periodic ``box x box`` lattice.
 
@@ -315,6 +316,13 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
         (delayed-acceptance Metropolis-Hastings, Christen & Fox 2005). The chain samples exactly
         the same Boltzmann distribution at every temperature as plain Metropolis (``False``) and
         skips most relaxations at low T; its moves are accepted somewhat less often.
+    cluster_moves : float
+        Probability, in [0, 1], that an attempted move translates a whole cluster instead (the
+        cluster of a random particle, by a uniformly random lattice vector; rejected if it would
+        overlap or touch another particle). Shape and energy are unchanged and the proposal is
+        symmetric, so the sampled Boltzmann distribution is the same; aggregates then diffuse and
+        meet, where particle moves alone leave them to coarsen by slow evaporation. Default 0:
+        the paper's single-particle moves.
     max_iter : int
         Cap on energy evaluations per L-BFGS relaxation.
     callback : callable or None
@@ -352,6 +360,12 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     if steps is None and (isinstance(schedule, str) or callable(schedule)):
         steps = DEFAULT_SWEEPS * n
     max_iter = _integer("max_iter", max_iter, 1)
+    try:
+        cluster_moves = float(cluster_moves)
+    except (TypeError, ValueError):
+        raise ValueError(f"cluster_moves must be a number in [0, 1], got {cluster_moves!r}") from None
+    if not 0.0 <= cluster_moves <= 1.0:
+        raise ValueError(f"cluster_moves must lie in [0, 1], got {cluster_moves!r}")
     temps, block_steps, stage_of_block, n_stages = _plan(steps, schedule, T0, T_end, record_every)
     total_steps = int(block_steps.sum())
     cum_steps = np.cumsum(block_steps)
@@ -361,14 +375,15 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     bond_deformation = float(particle.bulk_energy_per_particle) / 3.0
     signature = dict(particle=particle_params, g=g, box=box, n=n, seed=seed, method=method, tol=float(tol),
                      max_iter=max_iter, warm_start=bool(warm_start), delayed_acceptance=bool(delayed_acceptance),
-                     plan=plan_digest)
+                     cluster_moves=cluster_moves, plan=plan_digest)
     params = dict(signature, particle_type=type(particle).__name__, schedule=_schedule_description(schedule),
                   T0=T0, T_end=T_end, steps=total_steps, record_every=record_every, cache=bool(cache),
                   bond_deformation=bond_deformation)
 
     mc = _kernel.MonteCarlo(model, g, box, n, seed, method=method, tol=float(tol) * particle.force_scale,
                             max_iter=max_iter, cache=bool(cache), warm_start=bool(warm_start),
-                            delayed_acceptance=bool(delayed_acceptance), bond_deformation=bond_deformation)
+                            delayed_acceptance=bool(delayed_acceptance), bond_deformation=bond_deformation,
+                            cluster_moves=cluster_moves)
     energies, accepted = [], []
     done, elapsed_before, resumed = 0, 0.0, False
     if checkpoint is not None and os.path.exists(checkpoint):

@@ -135,6 +135,45 @@ def disk(R: int) -> Topology:
     return Topology("disk", sites, size=float(np.sqrt(len(sites) * AREA_PER_PARTICLE / np.pi)), label=f"disk R={R}")
 
 
+def stadium_sites(n: int, segment: float = 0.0) -> np.ndarray:
+    """The ``n`` sites nearest to a segment of length ``segment`` centred on the origin along
+    ``a1``: a near-circular aggregate for ``segment = 0``, a rounded strip (a finite cut-0 fibre)
+    of width about ``n sqrt(3) / (2 segment)`` for long segments. Ties in distance are broken
+    by the distance to the origin, then by the angle, so the shape is unique and deterministic.
+
+    Finite-size predictions use this one-parameter family of single aggregates of exactly ``n``
+    particles (``ansatz.finite_aggregates``)."""
+    if isinstance(n, bool) or int(n) != n or n < 1:
+        raise ValueError(f"n must be a positive integer, got {n!r}")
+    segment = float(segment)
+    if not np.isfinite(segment) or segment < 0:
+        raise ValueError(f"segment must be non-negative and finite, got {segment!r}")
+    n = int(n)
+    # Enough rows and columns to hold n sites around the segment.
+    half = int(np.ceil(segment / 2 + np.sqrt(n))) + 2
+    r = np.arange(-2 * half, 2 * half + 1)
+    i, j = np.meshgrid(r, r, indexing="ij")
+    sites = np.column_stack([i.ravel(), j.ravel()])
+    xy = site_positions(sites)
+    along = np.clip(xy[:, 0], -segment / 2, segment / 2)
+    distance = np.round(np.hypot(xy[:, 0] - along, xy[:, 1]), 9)
+    order = np.lexsort((np.arctan2(xy[:, 1], xy[:, 0]), np.round(np.hypot(*xy.T), 9), distance))
+    return sites[order[:n]]
+
+
+def gyration_dimensions(sites) -> tuple[float, float]:
+    """Width and length of an aggregate from its gyration tensor: ``sqrt(12 lambda)`` for its two
+    eigenvalues, which are exactly the sides of a uniform rectangle (a compact disk of radius
+    ``R`` gives ``sqrt(3) R`` both ways). Orientation-free, so it measures Monte Carlo
+    aggregates and pre-made ones alike."""
+    xy = site_positions(sites)
+    if len(xy) < 2:
+        return 0.0, 0.0
+    xy = xy - xy.mean(axis=0)
+    eigen = np.clip(np.linalg.eigvalsh(xy.T @ xy / len(xy)), 0.0, None)
+    return float(np.sqrt(12 * eigen[0])), float(np.sqrt(12 * eigen[1]))
+
+
 def _line_representative(axis) -> np.ndarray:
     """A site s with cross(axis, s) = 1 (extended Euclid), so c * s lies on the c-th line."""
     p, q = axis

@@ -105,3 +105,42 @@ def test_catalogue_round_trips_through_arrays(small_catalogues):
     again = ansatz.CatalogueEnergies.from_arrays(table.as_arrays())
     np.testing.assert_array_equal(again.deformation, table.deformation)
     np.testing.assert_array_equal(again.family, table.family)
+
+
+# --------------------------------------------------------------------------------------------
+# Finite-size predictions: single aggregates of n particles
+# --------------------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def finite_400():
+    particle = pf.Hexagon.from_continuum(ell=2.5, nu=0.9, eps=0.01)
+    return particle, ansatz.finite_aggregates(particle, 400)
+
+
+@pytest.mark.parametrize("Gamma", [0.2, 0.5])
+def test_best_finite_aggregate_has_the_continuum_fibre_width(finite_400, Gamma):
+    """400 particles at ell = 2.5 hold a strip several W* long: the best single aggregate (a
+    finite, relaxed, free-boundary shape) has the width of the continuum optimum of Eq. 14, an
+    infinite periodic strip. Tolerance: the segment grid and the end caps."""
+    particle, fa = finite_400
+    g = float(ansatz.binding_energy_of(particle, 2.5, 0.9, Gamma))
+    best = int(fa.best(g))
+    assert fa.converged.all()
+    assert fa.length[best] > 3 * fa.width[best]  # a fibre, not a disk
+    assert fa.width[best] == pytest.approx(2.5 * continuum.optimal_width(0.9, Gamma), rel=0.15)
+
+
+def test_finite_aggregates_total_is_linear_in_g(finite_400):
+    _, fa = finite_400
+    g = np.array([0.0, 1e-3, 2e-3])
+    total = fa.total(g)
+    assert total.shape == (len(fa.segment), 3)
+    assert np.allclose(total[:, 0], fa.deformation)
+    assert np.allclose(total[:, 2] - total[:, 1], total[:, 1] - total[:, 0])
+    # Compact shapes have the most bonds: they win once binding dominates.
+    assert fa.best(1.0) == int(np.argmax(fa.bonds))
+
+
+def test_finite_aggregates_rejects_empty_segments():
+    with pytest.raises(ValueError, match="segments"):
+        ansatz.finite_aggregates(pf.Hexagon.from_continuum(ell=2.5, nu=0.9), 10, segments=[])

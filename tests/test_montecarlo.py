@@ -146,6 +146,33 @@ def test_incremental_energy_matches_scratch(particle, g, method, box, n, seed, d
         assert wrapped, "the dense box should produce clusters that wrap around it"
 
 
+@pytest.mark.parametrize("method", ["linear", "lbfgs"])
+def test_cluster_moves_keep_the_incremental_bookkeeping(particle, g, method):
+    """Translations move the cluster labels with the particles: the running energy and bonds
+    still equal a recomputation from scratch while particle moves change clusters in between."""
+    box, n = 14, 30
+    mc = kernel_mc(particle, g, box, n, 5, method, cluster_moves=0.4)
+    scale = n * particle.bulk_energy_per_particle
+    for T_ in np.linspace(g, 0.2 * g, 8):
+        mc.run(np.array([T_]), np.array([300]))
+        occupied = {tuple(s) for s in mc.particles.tolist()}
+        assert mc.bonds == sum(((i + di) % box, (j + dj) % box) in occupied
+                               for i, j in occupied for di, dj in T.NEIGHBOURS) // 2
+        assert mc.energy == pytest.approx(mc.box_energy(True), abs=1e-12 * scale)
+    c = mc.counters
+    assert 0 < c["cluster_accepted"] <= c["cluster_attempted"] < c["attempted"]
+    assert c["cluster_attempted"] == pytest.approx(0.4 * c["attempted"], rel=0.05)
+
+
+def test_without_cluster_moves_the_chain_is_unchanged(particle, g):
+    """cluster_moves = 0 draws no extra random numbers: the particle-move chain is the same."""
+    a = kernel_mc(particle, g, 10, 20, 4)
+    b = kernel_mc(particle, g, 10, 20, 4, cluster_moves=0.0)
+    for mc in (a, b):
+        mc.run(np.linspace(g, 0, 10), np.full(10, 50))
+    assert np.array_equal(a.particles, b.particles) and a.counters["cluster_attempted"] == 0
+
+
 def test_bonds_counted_on_the_torus(particle, g):
     mc = kernel_mc(particle, g, 7, 15, 3)
     for _ in range(10):
@@ -215,13 +242,13 @@ def enumerate_states(mc, box, n):
     return states, np.array(energies)
 
 
-def sampled_vs_exact(particle, g, box, n, T_over_g, samples, delayed, seed, batches=20):
+def sampled_vs_exact(particle, g, box, n, T_over_g, samples, delayed, seed, batches=20, **kw):
     """Sample the states after every move at fixed T; compare with the exact Boltzmann weights.
 
     Returns the total-variation distances over states and over energy levels, and the largest
     z-score of a level's frequency, its standard error estimated by batch means (the samples
     are correlated)."""
-    mc = kernel_mc(particle, g, box, n, seed, delayed_acceptance=delayed)
+    mc = kernel_mc(particle, g, box, n, seed, delayed_acceptance=delayed, **kw)
     states, E = enumerate_states(kernel_mc(particle, g, box, n, 0), box, n)
     T_ = T_over_g * g
     w = np.exp(-(E - E.min()) / T_)
@@ -248,6 +275,24 @@ def test_sampling_matches_boltzmann_weights(box, n, delayed):
     particle = Hexagon.from_continuum(ell=5, nu=0.9, eps=0.05)
     g = float(continuum.particle_parameters(5, 0.9, 0.5, eps=0.05).g)
     tv_states, tv_levels, z, E = sampled_vs_exact(particle, g, box, n, 0.5, 200_000, delayed, seed=box + n + delayed)
+    assert len(np.unique(np.round(E, 10))) >= 5
+    assert z < 5
+    assert tv_levels < 0.02
+    assert tv_states < 0.06
+
+
+@pytest.mark.parametrize("box,n,delayed", [(5, 3, True), (4, 3, False)])
+def test_cluster_moves_keep_the_boltzmann_weights(box, n, delayed):
+    """Half the moves translate whole clusters (rejected on contact): the chain must still
+    sample exp(-E/T) exactly, which a translation that could create or break bonds, or favour
+    large clusters, would not."""
+    particle = Hexagon.from_continuum(ell=5, nu=0.9, eps=0.05)
+    g = float(continuum.particle_parameters(5, 0.9, 0.5, eps=0.05).g)
+    mc = kernel_mc(particle, g, box, n, 9, cluster_moves=0.5)
+    mc.run(np.array([0.5 * g]), np.array([20_000]))
+    assert mc.counters["cluster_accepted"] > 1000  # translations do happen
+    tv_states, tv_levels, z, E = sampled_vs_exact(particle, g, box, n, 0.5, 200_000, delayed, seed=box + n,
+                                                  cluster_moves=0.5)
     assert len(np.unique(np.round(E, 10))) >= 5
     assert z < 5
     assert tv_levels < 0.02
@@ -318,8 +363,9 @@ def test_schedules(particle, g):
     assert np.allclose(r.temperature, g * (1 - np.linspace(0, 1, 11)) ** 2)
 
 
-def test_checkpoint_resume_equals_uninterrupted(particle, g, tmp_path):
-    kw = dict(box=10, n=20, steps=20 * 60, seed=8, record_every=20)
+@pytest.mark.parametrize("cluster_moves", [0.0, 0.3])
+def test_checkpoint_resume_equals_uninterrupted(particle, g, tmp_path, cluster_moves):
+    kw = dict(box=10, n=20, steps=20 * 60, seed=8, record_every=20, cluster_moves=cluster_moves)
     ref = small_anneal(particle, g, **kw)
     path = tmp_path / "run.ckpt"
     calls = []
@@ -340,14 +386,17 @@ def test_checkpoint_resume_equals_uninterrupted(particle, g, tmp_path):
     assert np.array_equal(resumed.energy_trace, ref.energy_trace)
     assert np.array_equal(resumed.accepted, ref.accepted)
     assert resumed.energy == ref.energy
-    for k in ("attempted", "accepted", "screened"):
+    for k in ("attempted", "accepted", "screened", "cluster_attempted", "cluster_accepted"):
         assert resumed.counters[k] == ref.counters[k]
+    assert (ref.counters["cluster_accepted"] > 0) == (cluster_moves > 0)
     assert os.listdir(tmp_path) == ["run.ckpt"]  # no temporary files left behind
     # A finished checkpoint is returned as is; other parameters are refused.
     again = small_anneal(particle, g, checkpoint=str(path), **kw)
     assert np.array_equal(again.sites, ref.sites) and again.energy == ref.energy
     with pytest.raises(ValueError, match="checkpoint.*seed"):
         small_anneal(particle, g, checkpoint=str(path), **dict(kw, seed=9))
+    with pytest.raises(ValueError, match="checkpoint.*cluster_moves"):
+        small_anneal(particle, g, checkpoint=str(path), **dict(kw, cluster_moves=0.5))
 
 
 @pytest.mark.parametrize("kw,name", [
@@ -356,6 +405,8 @@ def test_checkpoint_resume_equals_uninterrupted(particle, g, tmp_path):
     (dict(schedule=lambda x: -x), "schedule"), (dict(g=-0.1), "g"), (dict(method="cg"), "method"),
     (dict(tol=0), "tol"), (dict(steps=0), "steps"), (dict(seed=-1), "seed"), (dict(schedule="cosine"), "schedule"),
     (dict(record_every=0), "record_every"), (dict(schedule=[(0.1, 10)], steps=11), "steps"),
+    (dict(cluster_moves=-0.1), "cluster_moves"), (dict(cluster_moves=1.5), "cluster_moves"),
+    (dict(cluster_moves="often"), "cluster_moves"),
 ])
 def test_bad_input_names_the_parameter(particle, g, kw, name):
     kw = dict(dict(g=g), **kw)

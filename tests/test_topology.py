@@ -330,3 +330,66 @@ def test_cluster_with_three_coordinates_names_sites():
     # "cannot reshape array of size 3 into shape (2)", which does not name the parameter.
     with pytest.raises(ValueError, match="sites"):
         T.cluster([(0, 0, 0)])
+
+
+# --------------------------------------------------------------------------------------------
+# Finite aggregates of n particles (the shapes of finite-size predictions)
+# --------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("R", [0, 1, 2, 3])
+def test_stadium_of_a_hexagonal_number_is_the_hexagon(R):
+    """The 1 + 3R(R+1) sites nearest to a point are the hexagon of radius R (R <= 3: the next
+    shell, at distance 2 sqrt(3), lies beyond the hexagon's farthest sites at 3)."""
+    n = 1 + 3 * R * (R + 1)
+    assert set(map(tuple, T.stadium_sites(n).tolist())) == set(map(tuple, T.hexagon_sites(R).tolist()))
+
+
+@pytest.mark.parametrize("n,segment", [(1, 0.0), (57, 0.0), (200, 12.0), (300, 60.0)])
+def test_stadium_sites_are_distinct_connected_and_deterministic(n, segment):
+    sites = T.stadium_sites(n, segment)
+    assert sites.shape == (n, 2) and len(set(map(tuple, sites.tolist()))) == n
+    assert np.array_equal(sites, T.stadium_sites(n, segment))
+    # Breadth-first search over the six neighbours reaches every site.
+    members = set(map(tuple, sites.tolist()))
+    seen, queue = {tuple(sites[0])}, [tuple(sites[0])]
+    for u in queue:
+        for d in T.NEIGHBOURS:
+            v = (u[0] + int(d[0]), u[1] + int(d[1]))
+            if v in members and v not in seen:
+                seen.add(v)
+                queue.append(v)
+    assert len(seen) == n
+
+
+def test_long_stadium_is_a_strip_of_the_expected_width():
+    """Area conservation: n particles of area sqrt(3)/2 along a segment L make a strip of width
+    about n sqrt(3) / (2 L); the gyration width of a uniform strip is its width."""
+    n, segment = 600, 100.0
+    width, length = T.gyration_dimensions(T.stadium_sites(n, segment))
+    assert width == pytest.approx(n * np.sqrt(3) / 2 / segment, rel=0.1)
+    assert length == pytest.approx(segment, rel=0.1)
+
+
+def test_gyration_dimensions_of_a_rectangle_and_a_hexagon():
+    rows, columns = 8, 40
+    rect = np.array([(i - r // 2, r) for r in range(rows) for i in range(columns)])
+    width, length = T.gyration_dimensions(rect)
+    # Discrete uniform rows: variance (spacing^2)(m^2 - 1)/12 along each side (up to the
+    # half-site stagger of alternate rows, which tilts the tensor slightly).
+    assert width == pytest.approx(np.sqrt(3) / 2 * np.sqrt(rows ** 2 - 1), rel=1e-3)
+    assert length == pytest.approx(np.sqrt(columns ** 2 - 1), rel=0.01)
+    w, l = T.gyration_dimensions(T.hexagon_sites(10))
+    assert w == pytest.approx(l, rel=1e-12)  # six-fold symmetric: isotropic gyration tensor
+    assert T.gyration_dimensions([(0, 0)]) == (0.0, 0.0)
+
+
+@pytest.mark.parametrize("bad", [0, -3, 2.5, True])
+def test_stadium_rejects_bad_n(bad):
+    with pytest.raises(ValueError, match="n must be"):
+        T.stadium_sites(bad)
+
+
+@pytest.mark.parametrize("bad", [-1.0, float("nan"), float("inf")])
+def test_stadium_rejects_bad_segment(bad):
+    with pytest.raises(ValueError, match="segment"):
+        T.stadium_sites(10, bad)

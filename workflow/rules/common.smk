@@ -9,8 +9,9 @@ def catalogue_file(ell, nu):
 MC = config["montecarlo"]
 
 
-def mc_run_file(nu, Gamma, seed, dense):
-    kind = "dense" if dense else "sparse"
+def mc_run_file(nu, Gamma, seed, kind="sparse"):
+    """One annealing run; ``kind`` picks the box: 'sparse' (n, box), 'dense' (dense_n, dense_box:
+    the bottom row of Fig. 3b) or 'large' (large_n, large_box: figX_mc_finite_size)."""
     return f"results/montecarlo/runs/{kind}_nu{float(nu):g}_G{float(Gamma):g}_seed{seed}.npz"
 
 
@@ -18,9 +19,19 @@ def mc_snapshot_files():
     """The runs of Fig. 3b: the fibre scan (nu fixed, Gamma rising), the dense disk scan (the
     bottom row), the nu scan at fixed Gamma, and every seed at the extra point."""
     first = MC["seeds"][0]
-    runs = [(MC["fiber_scan_nu"], G, first, False) for G in MC["scan_Gamma"]]
-    runs += [(MC["disk_scan_nu"], G, first, True) for G in MC["scan_Gamma"]]
-    runs += [(nu, MC["nu_scan_Gamma"], first, False) for nu in MC["nu_scan_nu"]]
+    runs = [(MC["fiber_scan_nu"], G, first) for G in MC["fiber_scan_Gamma"]]
+    runs += [(MC["disk_scan_nu"], G, first, "dense") for G in MC["disk_scan_Gamma"]]
+    runs += [(nu, MC["nu_scan_Gamma"], first) for nu in MC["nu_scan_nu"]]
     G, nu = MC["extra_seed_point"]
-    runs += [(nu, G, seed, False) for seed in MC["seeds"]]
+    runs += [(nu, G, seed) for seed in MC["seeds"]]
+    return sorted({mc_run_file(*r) for r in runs})
+
+
+def mc_finite_size_files():
+    """The runs of figX_mc_finite_size: the fibre scan and the nu scan in the large box, and the
+    sparse (paper-size) runs of the same fibre scan for comparison."""
+    first = MC["seeds"][0]
+    runs = [(MC["fiber_scan_nu"], G, first, "large") for G in MC["large_scan_Gamma"]]
+    runs += [(nu, MC["nu_scan_Gamma"], first, "large") for nu in MC["large_nu_scan_nu"]]
+    runs += [(MC["fiber_scan_nu"], G, first) for G in MC["fiber_scan_Gamma"]]
     return sorted({mc_run_file(*r) for r in runs})

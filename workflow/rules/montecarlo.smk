@@ -7,11 +7,11 @@ rule montecarlo_run:
         nu=lambda w: float(w.nu),
         Gamma=lambda w: float(w.Gamma),
         seed=lambda w: int(w.seed),
-        dense=lambda w: w.kind == "dense",
+        kind=lambda w: w.kind,
         checkpoint_stem=lambda w: f"results/montecarlo/checkpoints/{w.kind}_nu{w.nu}_G{w.Gamma}_seed{w.seed}",
         settings=MC,
     wildcard_constraints:
-        kind="sparse|dense",
+        kind="sparse|dense|large",
     log:
         "results/logs/montecarlo/{kind}_nu{nu}_G{Gamma}_seed{seed}.log",
     script:
@@ -20,7 +20,7 @@ rule montecarlo_run:
 
 rule montecarlo_diagram:
     input:
-        [mc_run_file(nu, G, MC["seeds"][0], False) for nu in MC["diagram_nu"] for G in MC["diagram_Gamma"]],
+        [mc_run_file(nu, G, MC["seeds"][0]) for nu in MC["diagram_nu"] for G in MC["diagram_Gamma"]],
     output:
         "results/montecarlo/diagram.npz",
     log:
@@ -41,3 +41,36 @@ rule figX_mc_diagram:
         "results/logs/figX_mc_diagram.log",
     script:
         "../../figures/figX_mc_diagram.py"
+
+
+# Beyond the paper: which single aggregate of n particles is best at each Gamma (the finite-size
+# prediction for a Monte Carlo box of n particles), one job per (n, nu).
+rule montecarlo_finite_aggregates:
+    output:
+        "results/montecarlo/finite/n{n}_nu{nu}.npz",
+    params:
+        n=lambda w: int(w.n),
+        nu=lambda w: float(w.nu),
+        settings=MC,
+    log:
+        "results/logs/montecarlo/finite_n{n}_nu{nu}.log",
+    script:
+        "../scripts/montecarlo_finite_aggregates.py"
+
+
+def finite_aggregate_files():
+    nus = {MC["fiber_scan_nu"], *MC["large_nu_scan_nu"]}
+    return [f"results/montecarlo/finite/n{n}_nu{float(nu):g}.npz" for n in (MC["n"], MC["large_n"]) for nu in sorted(nus)]
+
+
+rule figX_mc_finite_size:
+    input:
+        runs=mc_finite_size_files(),
+        finite=finite_aggregate_files(),
+    output:
+        pdf=f"{FIGURES}/figX_mc_finite_size.pdf",
+        png=f"{FIGURES}/figX_mc_finite_size.png",
+    log:
+        "results/logs/figX_mc_finite_size.log",
+    script:
+        "../../figures/figX_mc_finite_size.py"

@@ -1,6 +1,8 @@
 """One Monte Carlo annealing run (main text, "Monte-Carlo validation of the phase diagram"):
-particles at random in a periodic box, moves of single particles, Metropolis on the topology
-with relaxed cluster energies, temperature lowered linearly from g to 0."""
+particles at random in a periodic box, moves of single particles (and, with probability
+cluster_moves, of whole clusters), Metropolis on the topology with relaxed cluster energies,
+temperature lowered linearly from g to 0. The run's kind picks the box: sparse (n, box), dense
+(dense_*: the bottom row of Fig. 3b) or large (large_*: figX_mc_finite_size)."""
 import os
 
 import numpy as np
@@ -13,19 +15,20 @@ p = snakemake.params  # noqa: F821
 with logging_to(snakemake.log[0]):  # noqa: F821
     particle = Hexagon.from_continuum(s["ell"], p.nu, eps=s["eps"])
     g = float(continuum.particle_parameters(s["ell"], p.nu, p.Gamma, eps=s["eps"]).g)
-    n, box = (s["dense_n"], s["dense_box"]) if p.dense else (s["n"], s["box"])
-    method = s["dense_method"] if p.dense else s["method"]
-    sweeps = s["dense_sweeps"] if p.dense else s["sweeps"]
+    prefix = "" if p.kind == "sparse" else f"{p.kind}_"
+    n, box, method, sweeps = (s[prefix + key] for key in ("n", "box", "method", "sweeps"))
+    cluster_moves = s["cluster_moves"]
     # Named by everything that defines the run, so a changed configuration starts afresh while an
     # interrupted run of the same configuration resumes.
-    checkpoint = f"{p.checkpoint_stem}_{n}in{box}_{sweeps}sweeps_{method}_tol{s['tol']:g}_eps{s['eps']:g}.pkl"
+    checkpoint = (f"{p.checkpoint_stem}_{n}in{box}_{sweeps}sweeps_{method}_tol{s['tol']:g}_eps{s['eps']:g}"
+                  f"_cm{cluster_moves:g}.pkl")
     r = anneal(particle, g, box=box, n=n, steps=n * sweeps, seed=p.seed, method=method, tol=s["tol"],
-               checkpoint=checkpoint, progress=True)
+               checkpoint=checkpoint, progress=True, cluster_moves=cluster_moves)
     sizes = sorted((len(c) for c in r.clusters()), reverse=True)
-    print(f"nu={p.nu} Gamma={p.Gamma} n={n} box={box} seed={p.seed} method={method}: energy {r.energy:.6g}, "
+    print(f"nu={p.nu} Gamma={p.Gamma} n={n} box={box} seed={p.seed} method={method} cluster_moves={cluster_moves:g}: energy {r.energy:.6g}, "
           f"acceptance {r.acceptance:.3g}, cache hit rate {r.cache_hit_rate:.3f}, {r.elapsed:.1f} s; clusters {sizes[:8]}")
     save_npz(snakemake.output[0], sites=r.sites, box=box, n=n, nu=p.nu, Gamma=p.Gamma, ell=s["ell"],  # noqa: F821
              seed=p.seed, g=g, energy=r.energy, energy_trace=r.energy_trace, temperature=r.temperature,
              steps=r.steps, acceptance=r.acceptance, stage_acceptance=r.stage_acceptance, method=method,
-             cluster_sizes=np.array(sizes))
+             cluster_sizes=np.array(sizes), cluster_moves=cluster_moves, kind=p.kind)
     os.remove(checkpoint)  # the result is saved: nothing left to resume
