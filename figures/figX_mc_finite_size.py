@@ -7,7 +7,8 @@ and a larger one at the same density; lines: the best single aggregate of exactl
 (ansatz.finite_aggregates, relaxed compact-to-elongated shapes) and the continuum fibre width
 W*(Gamma) (Eq. 14). A fibre of width W* needs about n > 3 W*^2 / (sqrt(3)/2) particles to be
 longer than wide; below that the best aggregate is compact.
-(c) Snapshots of the larger box: the fibre scan and the nu scan at fixed Gamma.
+(c) Snapshots of the larger box: the fibre scan and the nu scan at fixed Gamma, each with its
+final energy above the best single aggregate of the same n (a measure of how far annealing got).
 """
 import numpy as np
 
@@ -21,6 +22,16 @@ def largest_aggregate(run):
     box = int(run["box"])
     coords, rank = clusters(run["sites"], box)[0]
     return coords, rank
+
+
+def gap_to_best(run, finite):
+    """Final Monte Carlo energy minus the best single aggregate of the same n and nu at the run's g,
+    in bulk particle energies (None without a matching prediction)."""
+    for f in finite:
+        if int(f["n"]) == int(run["n"]) and abs(float(f["nu"]) - float(run["nu"])) < 1e-9:
+            best = np.min(f["deformation"] - float(run["g"]) * f["bonds"])
+            return (float(run["energy"]) - best) / float(f["bulk_energy_per_particle"])
+    return None
 
 
 def main(run_paths, finite_paths, outputs):
@@ -59,7 +70,7 @@ def main(run_paths, finite_paths, outputs):
         ax.set_xlabel(r"line tension $\Gamma$")
         ax.set_ylabel(f"aggregate {name} (lattice units)")
         ax.set_xlim(0, 1.0)
-        ax.set_ylim(0, None)
+        ax.set_ylim(0, 1.45 * ax.get_ylim()[1])  # room for the legend above the data
     axes[0].set_title(rf"$\nu = {nu_fibre:g}$, $\ell = {float(runs[0]['ell']):g}$", fontsize=8)
     plotting.panel_label(axes[0], "a")
     plotting.panel_label(axes[1], "b")
@@ -84,14 +95,17 @@ def main(run_paths, finite_paths, outputs):
         sub.set_yticks([])
         w, l = gyration_dimensions(coords)
         wrap = ", wraps" if rank else ""
+        gap = gap_to_best(r, finite)
+        gap = "" if gap is None else rf", $\Delta E$={gap:+.0f}"
         sub.set_title(rf"$\Gamma$={float(r['Gamma']):g}, $\nu$={float(r['nu']):g}: {len(coords)} particles" "\n"
-                      rf"$W$={w:.0f}, $L$={l:.0f}{wrap}", fontsize=6)
+                      rf"$W$={w:.0f}, $L$={l:.0f}{wrap}{gap}", fontsize=6)
     if large:
         fig.text(0.39, 0.97, f"(c) Monte Carlo, {int(large[0]['n'])} particles in {int(large[0]['box'])} x "
                  f"{int(large[0]['box'])} sites (largest aggregate, others in other colours)", fontsize=7)
-    fig.text(0.08, 0.01, "Open markers: the aggregate wraps around the box (a periodic fibre). "
-             "Cluster translations on (config cluster_moves); widths and lengths from the gyration tensor.",
-             fontsize=6)
+    fig.text(0.08, -0.01, "Open markers: the aggregate wraps around the box (a periodic fibre). "
+             "Cluster translations on (config cluster_moves); widths and lengths from the gyration tensor.\n"
+             "$\\Delta E$: final energy above the best single aggregate of the same n, in bulk particle energies.",
+             fontsize=6, va="top")
     plotting.save(fig, outputs)
 
 
