@@ -13,6 +13,7 @@ final energy above the best single aggregate of the same n (a measure of how far
 import numpy as np
 
 from pyfrustrate import continuum, plotting
+from pyfrustrate.ansatz import FiniteAggregates
 from pyfrustrate.io import load_npz, logging_to
 from pyfrustrate.montecarlo import clusters, draw_snapshot
 from pyfrustrate.topology import gyration_dimensions, site_positions
@@ -29,8 +30,8 @@ def gap_to_best(run, finite):
     in bulk particle energies (None without a matching prediction)."""
     for f in finite:
         if int(f["n"]) == int(run["n"]) and abs(float(f["nu"]) - float(run["nu"])) < 1e-9:
-            best = np.min(f["deformation"] - float(run["g"]) * f["bonds"])
-            return (float(run["energy"]) - best) / float(f["bulk_energy_per_particle"])
+            best = FiniteAggregates.from_arrays(f).best_energy(float(run["g"]))
+            return (float(run["energy"]) - float(best)) / float(f["bulk_energy_per_particle"])
     return None
 
 
@@ -84,7 +85,7 @@ def main(run_paths, finite_paths, outputs):
         i, j = divmod(k, cols)
         sub = fig.add_axes([0.39 + j * width, 0.95 - (i + 1) * height, width * 0.96, height * 0.8])
         box = int(r["box"])
-        draw_snapshot(r["sites"], box, ax=sub)
+        draw_snapshot(r["sites"], box, ax=sub, outline=False)  # the crop hides the box: its edge would only cross the view
         coords, rank = largest_aggregate(r)
         coords = coords - np.floor(coords.mean(axis=0) / box).astype(int) * box
         xy = site_positions(coords)
@@ -101,7 +102,7 @@ def main(run_paths, finite_paths, outputs):
                       rf"$W$={w:.0f}, $L$={l:.0f}{wrap}{gap}", fontsize=6)
     if large:
         fig.text(0.39, 0.97, f"(c) Monte Carlo, {int(large[0]['n'])} particles in {int(large[0]['box'])} x "
-                 f"{int(large[0]['box'])} sites (largest aggregate, others in other colours)", fontsize=7)
+                 f"{int(large[0]['box'])} sites: each view cropped around the largest aggregate", fontsize=7)
     fig.text(0.08, -0.01, "Open markers: the aggregate wraps around the box (a periodic fibre). "
              "Cluster translations on (config cluster_moves); widths and lengths from the gyration tensor.\n"
              "$\\Delta E$: final energy above the best single aggregate of the same n, in bulk particle energies.",

@@ -174,6 +174,21 @@ class FiniteAggregates:
         """Index of the lowest-energy shape at each binding energy ``g``."""
         return np.argmin(self.total(g), axis=0)
 
+    def best_energy(self, g) -> np.ndarray:
+        """Total energy of the best single aggregate at each binding energy ``g``."""
+        return np.min(self.total(g), axis=0)
+
+    def best_aspect_ratio(self, g) -> np.ndarray:
+        """Length over width of the best single aggregate at each ``g`` (1 for a round one)."""
+        best = self.best(g)
+        return self.length[best] / self.width[best]
+
+    @classmethod
+    def from_arrays(cls, arrays) -> "FiniteAggregates":
+        """Rebuild from a mapping with one entry per field (a saved ``.npz``; ``sites`` stacked)."""
+        return cls(int(arrays["n"]), np.asarray(arrays["segment"], float), tuple(np.asarray(arrays["sites"])),
+                   *(np.asarray(arrays[k]) for k in ("deformation", "bonds", "width", "length", "converged")))
+
 
 def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", tol: float = 1e-5) -> FiniteAggregates:
     """Relax the one-parameter family of single ``n``-particle aggregates, ``segments`` the

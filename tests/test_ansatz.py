@@ -141,6 +141,26 @@ def test_finite_aggregates_total_is_linear_in_g(finite_400):
     assert fa.best(1.0) == int(np.argmax(fa.bonds))
 
 
+def test_finite_aggregates_survive_a_saved_file(finite_400, tmp_path):
+    """The Monte Carlo diagram reads the predictions back from .npz (as the workflow writes them):
+    the reloaded best shape is a long fibre at Gamma = 0.2 and a round aggregate once binding
+    dominates, and its energy is the lowest of the shapes' energies."""
+    from pyfrustrate.io import load_npz, save_npz
+    from pyfrustrate.montecarlo import ELONGATION_THRESHOLD
+
+    particle, fa = finite_400
+    path = tmp_path / "finite.npz"
+    save_npz(path, n=fa.n, segment=fa.segment, sites=np.stack(fa.sites), deformation=fa.deformation,
+             bonds=fa.bonds, width=fa.width, length=fa.length, converged=fa.converged)
+    again = ansatz.FiniteAggregates.from_arrays(load_npz(path))
+    g = float(ansatz.binding_energy_of(particle, 2.5, 0.9, 0.2))
+    assert again.best_aspect_ratio(g) > 3
+    assert again.best_aspect_ratio(1.0) < ELONGATION_THRESHOLD
+    energies = [d - g * b for d, b in zip(fa.deformation, fa.bonds)]
+    assert again.best_energy(g) == pytest.approx(min(energies), rel=1e-12)
+    assert all(len(s) == fa.n for s in again.sites)
+
+
 def test_finite_aggregates_rejects_empty_segments():
     with pytest.raises(ValueError, match="segments"):
         ansatz.finite_aggregates(pf.Hexagon.from_continuum(ell=2.5, nu=0.9), 10, segments=[])

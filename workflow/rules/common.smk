@@ -15,6 +15,11 @@ def mc_run_file(nu, Gamma, seed, kind="sparse"):
     return f"results/montecarlo/runs/{kind}_nu{float(nu):g}_G{float(Gamma):g}_seed{seed}.npz"
 
 
+def finite_aggregate_file(n, nu):
+    """The best single aggregates of n particles at this nu (finite-size prediction)."""
+    return f"results/montecarlo/finite/n{int(n)}_nu{float(nu):g}.npz"
+
+
 def mc_snapshot_files():
     """The runs of Fig. 3b: the fibre scan (nu fixed, Gamma rising), the dense disk scan (the
     bottom row), the nu scan at fixed Gamma, and every seed at the extra point."""

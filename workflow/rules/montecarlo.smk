@@ -20,7 +20,8 @@ rule montecarlo_run:
 
 rule montecarlo_diagram:
     input:
-        [mc_run_file(nu, G, MC["seeds"][0]) for nu in MC["diagram_nu"] for G in MC["diagram_Gamma"]],
+        runs=[mc_run_file(nu, G, MC["seeds"][0]) for nu in MC["diagram_nu"] for G in MC["diagram_Gamma"]],
+        finite=[finite_aggregate_file(MC["n"], nu) for nu in MC["diagram_nu"]],
     output:
         "results/montecarlo/diagram.npz",
     log:
@@ -60,7 +61,7 @@ rule montecarlo_finite_aggregates:
 
 def finite_aggregate_files():
     nus = {MC["fiber_scan_nu"], *MC["large_nu_scan_nu"]}
-    return [f"results/montecarlo/finite/n{n}_nu{float(nu):g}.npz" for n in (MC["n"], MC["large_n"]) for nu in sorted(nus)]
+    return [finite_aggregate_file(n, nu) for n in (MC["n"], MC["large_n"]) for nu in sorted(nus)]
 
 
 rule figX_mc_finite_size:

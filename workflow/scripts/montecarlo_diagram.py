@@ -1,16 +1,38 @@
-"""Monte Carlo phase diagram (beyond the paper): the kind of the largest aggregate at the end of
-each annealing run of the grid (montecarlo.classify_aggregate)."""
+"""Monte Carlo phase diagram (beyond the paper): for each annealing run of the grid, the kind of
+its largest final aggregate (montecarlo.classify_aggregate), and its comparison with the
+finite-size prediction: the final energy above the best single aggregate of the same n
+(ansatz.finite_aggregates), and whether that best aggregate is elongated."""
 import numpy as np
 
+from pyfrustrate.ansatz import FiniteAggregates
 from pyfrustrate.io import load_npz, logging_to, save_npz
-from pyfrustrate.montecarlo import classify_aggregate
+from pyfrustrate.montecarlo import ELONGATION_THRESHOLD, classify_aggregate
 
 with logging_to(snakemake.log[0]):  # noqa: F821
+    finite, finite_nu, finite_elongated = {}, [], []
+    finite_Gamma = None
+    for path in snakemake.input.finite:  # noqa: F821
+        f = load_npz(path)
+        shapes = FiniteAggregates.from_arrays(f)
+        finite[(shapes.n, round(float(f["nu"]), 9))] = (shapes, float(f["bulk_energy_per_particle"]))
+        if finite_Gamma is None:
+            finite_Gamma = f["Gamma"]
+        elif not np.allclose(f["Gamma"], finite_Gamma):
+            raise ValueError(f"{path}: its Gamma grid differs from the other finite-size predictions'")
+        finite_nu.append(float(f["nu"]))
+        finite_elongated.append(shapes.best_aspect_ratio(f["g"]) > ELONGATION_THRESHOLD)
     rows = []
-    for path in snakemake.input:  # noqa: F821
+    for path in snakemake.input.runs:  # noqa: F821
         r = load_npz(path)
+        nu, Gamma, n, g = float(r["nu"]), float(r["Gamma"]), int(r["n"]), float(r["g"])
         kind, size = classify_aggregate(r["sites"], int(r["box"]))
-        rows.append((float(r["nu"]), float(r["Gamma"]), kind, size, int(r["n"])))
-        print(f"nu={rows[-1][0]:g} Gamma={rows[-1][1]:g}: {kind} (largest cluster {size} of {rows[-1][4]})")
-    nu, Gamma, kind, size, n = (np.array(c) for c in zip(*rows))
-    save_npz(snakemake.output[0], nu=nu, Gamma=Gamma, kind=kind.astype(str), size=size, n=n)  # noqa: F821
+        shapes, e_bulk = finite[(n, round(nu, 9))]
+        gap = (float(r["energy"]) - float(shapes.best_energy(g))) / e_bulk
+        single = "fiber" if float(shapes.best_aspect_ratio(g)) > ELONGATION_THRESHOLD else "disk"
+        rows.append((nu, Gamma, kind, size, n, gap, single))
+        print(f"nu={nu:g} Gamma={Gamma:g}: {kind} (largest cluster {size} of {n}); "
+              f"{gap:+.1f} bulk particle energies above the best single aggregate ({single})")
+    nu, Gamma, kind, size, n, gap, single = (np.array(c) for c in zip(*rows))
+    save_npz(snakemake.output[0], nu=nu, Gamma=Gamma, kind=kind.astype(str), size=size, n=n,  # noqa: F821
+             gap=gap, single_kind=single.astype(str), elongation_threshold=ELONGATION_THRESHOLD,
+             finite_nu=np.array(finite_nu), finite_Gamma=finite_Gamma, finite_elongated=np.array(finite_elongated))
