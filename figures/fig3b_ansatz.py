@@ -51,7 +51,8 @@ def main(diagram_path, continuum_path, snapshot_paths, outputs):
         sub.set_title(rf"{k}: $\Gamma$={float(r['Gamma']):g}, $\nu$={float(r['nu']):g}{seed}", fontsize=6)
     sizes = sorted({(int(r["n"]), int(r["box"])) for r in runs})
     fig.text(0.06, 0.02, "Monte Carlo: " + "; ".join(f"{n} particles in {b} x {b} sites" for n, b in sizes)
-             + f"; {len(runs)} runs; each panel centred on its largest cluster (others in other colours), all on one scale.\n"
+             + f"; {len(runs)} runs.\nEach panel is centred on its largest cluster (others in other colours), all on one scale;"
+             " dotted: edges of the periodic box.\n"
              "At nu = 0.9 a box of 200 particles holds a fibre of the optimal width only below Gamma ~ 0.35; "
              "above, its best aggregate is compact (figX_mc_finite_size).", fontsize=6, va="bottom")
     plotting.save(fig, outputs)

@@ -579,7 +579,9 @@ def draw_snapshot(sites, box, ax=None, particle=None, *, magnify=1.0, cmap="tab1
     ax.add_collection(PolyCollection(polys, facecolors=faces, edgecolors="k", linewidths=0.2))
     if outline:
         rhombus = site_positions([(0, 0), (box, 0), (box, box), (0, box), (0, 0)]) - site_positions([(0.5, 0.5)])
-        ax.plot(rhombus[:, 0], rhombus[:, 1], color="0.5", lw=0.6)
+        # Dotted and beneath the particles: a cropped view shows only part of the box, whose
+        # edges must not read as cracks through an aggregate.
+        ax.plot(rhombus[:, 0], rhombus[:, 1], color="0.55", lw=0.6, ls=":", zorder=0.5)
     allc = np.concatenate(polys) if polys else np.zeros((1, 2))
     pad = 1.0
     ax.set_xlim(min(allc[:, 0].min(), -1) - pad, max(allc[:, 0].max(), 1.5 * box) + pad)
