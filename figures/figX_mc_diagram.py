@@ -7,7 +7,8 @@ A box of a few hundred particles holds neither a bulk nor a fibre wider than it 
 runs are compared with the finite-size prediction too (ansatz.finite_aggregates): a band marks
 where the best single aggregate of the same n is elongated, and a hollow marker a run that ended
 more than NOT_ANNEALED_GAP bulk particle energies above that best aggregate (annealing stopped in
-a worse state; the number in brackets). Runs below it found several aggregates better than one."""
+a worse state; the gaps are in the log of montecarlo_diagram). Runs below it found several
+aggregates better than one."""
 from matplotlib.lines import Line2D
 
 from pyfrustrate import plotting
@@ -35,8 +36,8 @@ def draw_elongated_bands(ax, mc):
 def main(mc_path, diagram_path, continuum_path, outputs):
     mc = load_npz(mc_path)
     n = int(mc["n"][0])
-    fig = plotting.figure(12.0, 9.0)
-    ax = fig.add_axes([0.1, 0.12, 0.62, 0.72])
+    fig = plotting.figure(17.8, 11.0)
+    ax = fig.add_axes([0.07, 0.12, 0.68, 0.74])
     plotting.draw_ansatz_diagram(fig, ax, load_npz(diagram_path), load_npz(continuum_path))
     for mesh in ax.collections:
         mesh.set_alpha(0.35)
@@ -46,8 +47,7 @@ def main(mc_path, diagram_path, continuum_path, outputs):
         stuck = gap > NOT_ANNEALED_GAP
         ax.plot(G, nu, MARKERS[str(kind)], ms=8, mfc="w" if stuck else color, mec=color if stuck else "k",
                 mew=1.4 if stuck else 0.8, zorder=6)
-        label = f"{size} (+{gap:.0f})" if stuck else f"{size}"
-        ax.annotate(label, (G, nu), xytext=(5, -9), textcoords="offset points", fontsize=5.5, zorder=7)
+        ax.annotate(f"{size}", (G, nu), xytext=(5, -9), textcoords="offset points", fontsize=5.5, zorder=7)
     handles = [Line2D([], [], marker=m, ls="", mfc=plotting.PHASE_COLORS.get(k, "0.5"), mec="k", label=k.replace("_", " "))
                for k, m in MARKERS.items()]
     handles.append(Line2D([], [], marker="o", ls="", mfc="w", mec="0.3", mew=1.4,
@@ -56,7 +56,7 @@ def main(mc_path, diagram_path, continuum_path, outputs):
                           label=f"best single aggregate\nof {n} is elongated"))
     fig.legend(handles=handles, loc="center right", title="Monte Carlo\n(largest aggregate)", fontsize=6.5,
                title_fontsize=7, frameon=False, labelspacing=0.9)
-    fig.text(0.1, -0.14, f"Annealing runs of {n} particles; numbers: size of the largest aggregate. A box this small\n"
+    fig.text(0.07, -0.1, f"Annealing runs of {n} particles; numbers: size of the largest aggregate. A box this small\n"
              "holds neither a bulk nor a fibre wider than it is long: compare the runs with the band (what the\n"
              "best single aggregate of the same particles is), not only with the infinite-system diagram.",
              fontsize=6)
