@@ -16,8 +16,8 @@ from pyfrustrate.io import load_npz, logging_to
 
 MARKERS = {"disk": "o", "fiber": "s", "bulk": "D", "bulk_with_holes": "^", "gas": "x"}
 #: Final energy above the best single aggregate (bulk particle energies) from which a run
-#: counts as not annealed. Paper-scale runs that matched the predicted shape ended 2-10 above it
-#: (a Monte Carlo aggregate is not exactly one of the catalogue's stadium shapes).
+#: counts as not annealed. Paper-scale runs ending in one aggregate of all n particles ended
+#: 0-12 above it (a Monte Carlo aggregate is not exactly one of the catalogue's stadium shapes).
 NOT_ANNEALED_GAP = 15.0
 
 
