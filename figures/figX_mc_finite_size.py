@@ -13,7 +13,7 @@ final energy above the best single aggregate of the same n (a measure of how far
 import numpy as np
 
 from pyfrustrate import continuum, plotting
-from pyfrustrate.ansatz import FiniteAggregates
+from pyfrustrate.ansatz import energy_above_best_single
 from pyfrustrate.io import load_npz, logging_to
 from pyfrustrate.montecarlo import clusters, draw_snapshot
 from pyfrustrate.topology import gyration_dimensions, site_positions
@@ -30,8 +30,7 @@ def gap_to_best(run, finite):
     in bulk particle energies (None without a matching prediction)."""
     for f in finite:
         if int(f["n"]) == int(run["n"]) and abs(float(f["nu"]) - float(run["nu"])) < 1e-9:
-            best = FiniteAggregates.from_arrays(f).best_energy(float(run["g"]))
-            return (float(run["energy"]) - float(best)) / float(f["bulk_energy_per_particle"])
+            return energy_above_best_single(run["energy"], run["g"], f)
     return None
 
 

@@ -190,6 +190,15 @@ class FiniteAggregates:
                    *(np.asarray(arrays[k]) for k in ("deformation", "bonds", "width", "length", "converged")))
 
 
+def energy_above_best_single(energy: float, g: float, prediction) -> float:
+    """How far a Monte Carlo state of energy ``energy`` at binding energy ``g`` lies above the
+    best single aggregate of a saved finite-size prediction (the arrays of ``FiniteAggregates``
+    plus ``bulk_energy_per_particle``), in bulk particle energies. Negative: several aggregates
+    beat one."""
+    best = FiniteAggregates.from_arrays(prediction).best_energy(float(g))
+    return (float(energy) - float(best)) / float(prediction["bulk_energy_per_particle"])
+
+
 def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", tol: float = 1e-5) -> FiniteAggregates:
     """Relax the one-parameter family of single ``n``-particle aggregates, ``segments`` the
     lengths of their core segments (default ``FINITE_SEGMENTS * sqrt(n)``). Finite-size

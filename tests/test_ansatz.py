@@ -151,14 +151,18 @@ def test_finite_aggregates_survive_a_saved_file(finite_400, tmp_path):
     particle, fa = finite_400
     path = tmp_path / "finite.npz"
     save_npz(path, n=fa.n, segment=fa.segment, sites=np.stack(fa.sites), deformation=fa.deformation,
-             bonds=fa.bonds, width=fa.width, length=fa.length, converged=fa.converged)
-    again = ansatz.FiniteAggregates.from_arrays(load_npz(path))
+             bonds=fa.bonds, width=fa.width, length=fa.length, converged=fa.converged,
+             bulk_energy_per_particle=particle.bulk_energy_per_particle)
+    saved = load_npz(path)
+    again = ansatz.FiniteAggregates.from_arrays(saved)
     g = float(ansatz.binding_energy_of(particle, 2.5, 0.9, 0.2))
     assert again.best_aspect_ratio(g) > 3
     assert again.best_aspect_ratio(1.0) < ELONGATION_THRESHOLD
     energies = [d - g * b for d, b in zip(fa.deformation, fa.bonds)]
     assert again.best_energy(g) == pytest.approx(min(energies), rel=1e-12)
     assert all(len(s) == fa.n for s in again.sites)
+    two_above = min(energies) + 2 * particle.bulk_energy_per_particle
+    assert ansatz.energy_above_best_single(two_above, g, saved) == pytest.approx(2.0, rel=1e-9)
 
 
 def test_finite_aggregates_rejects_empty_segments():

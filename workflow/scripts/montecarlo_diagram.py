@@ -4,7 +4,7 @@ finite-size prediction: the final energy above the best single aggregate of the 
 (ansatz.finite_aggregates), and whether that best aggregate is elongated."""
 import numpy as np
 
-from pyfrustrate.ansatz import FiniteAggregates
+from pyfrustrate.ansatz import FiniteAggregates, energy_above_best_single
 from pyfrustrate.io import load_npz, logging_to, save_npz
 from pyfrustrate.montecarlo import ELONGATION_THRESHOLD, classify_aggregate
 
@@ -14,7 +14,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     for path in snakemake.input.finite:  # noqa: F821
         f = load_npz(path)
         shapes = FiniteAggregates.from_arrays(f)
-        finite[(shapes.n, round(float(f["nu"]), 9))] = (shapes, float(f["bulk_energy_per_particle"]))
+        finite[(shapes.n, round(float(f["nu"]), 9))] = (shapes, f)
         if finite_Gamma is None:
             finite_Gamma = f["Gamma"]
         elif not np.allclose(f["Gamma"], finite_Gamma):
@@ -26,8 +26,8 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         r = load_npz(path)
         nu, Gamma, n, g = float(r["nu"]), float(r["Gamma"]), int(r["n"]), float(r["g"])
         kind, size = classify_aggregate(r["sites"], int(r["box"]))
-        shapes, e_bulk = finite[(n, round(nu, 9))]
-        gap = (float(r["energy"]) - float(shapes.best_energy(g))) / e_bulk
+        shapes, prediction = finite[(n, round(nu, 9))]
+        gap = energy_above_best_single(r["energy"], g, prediction)
         single = "fiber" if float(shapes.best_aspect_ratio(g)) > ELONGATION_THRESHOLD else "disk"
         rows.append((nu, Gamma, kind, size, n, gap, single))
         print(f"nu={nu:g} Gamma={Gamma:g}: {kind} (largest cluster {size} of {n}); "
