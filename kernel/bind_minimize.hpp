@@ -16,6 +16,10 @@ inline pybind11::dict to_dict(const MinimizeResult& r) {
     d["iterations"] = r.iterations;
     d["gradient_norm"] = r.gradient_norm;
     d["status"] = r.status;
+    d["displacement"] = r.displacement;
+    d["newton_steps"] = r.newton_steps;
+    d["factorizations"] = r.factorizations;
+    d["lbfgs_evaluations"] = r.lbfgs_evaluations;
     return d;
 }
 

@@ -27,18 +27,51 @@ void export_network_functions(pybind11::module_& m) {
             const Network<Model> net{model, t};
             check_state(net, x);
             Vector g;
-            const double e = net.energy(x, &g);
+            const double e = net.energy(displacement_of(t, x), &g);
             return py::make_tuple(e, g);
         },
         py::arg("model"), py::arg("topology"), py::arg("x"),
         "Energy of the network at state x and its gradient (same layout as x).");
     m.def(
+        "energy_of_displacement",
+        [](const Model& model, const Topology& t, const Vector& u) {
+            const Network<Model> net{model, t};
+            check_state(net, u);
+            Vector g;
+            const double e = net.energy(u, &g);
+            return py::make_tuple(e, g);
+        },
+        py::arg("model"), py::arg("topology"), py::arg("u"),
+        "Energy and gradient at the displacement u = x - reference_state (exact to round-off of the forces).");
+    m.def(
+        "hessian",
+        [](const Model& model, const Topology& t, const Vector& u, bool exact) {
+            const Network<Model> net{model, t};
+            check_state(net, u);
+            const HessianPattern pat = net.hessian_pattern({});
+            const std::vector<double> values = net.hessian(u, pat, exact);
+            std::vector<Eigen::Triplet<double>> entries;
+            for (int j = 0; j < pat.n_free; ++j)
+                for (int k = pat.column_start[j]; k < pat.column_start[j + 1]; ++k) {
+                    entries.emplace_back(pat.row[k], j, values[k]);
+                    if (pat.row[k] != j) entries.emplace_back(j, pat.row[k], values[k]);
+                }
+            Eigen::SparseMatrix<double> H(net.size(), net.size());
+            H.setFromTriplets(entries.begin(), entries.end());
+            return H;
+        },
+        py::arg("model"), py::arg("topology"), py::arg("u"), py::arg("exact") = true,
+        "Hessian of the energy at displacement u (scipy sparse): exact (with the curvature of the period map) "
+        "or its Gauss-Newton part.");
+    m.def(
         "particle_energies",
         [](const Model& model, const Topology& t, const Vector& x) {
             const Network<Model> net{model, t};
             check_state(net, x);
+            const Vector u = displacement_of(t, x);
+            const PeriodMap map = net.period_map(u);
             Vector e(t.n_particles());
-            for (int p = 0; p < t.n_particles(); ++p) e[p] = net.particle_energy(x, p);
+            for (int p = 0; p < t.n_particles(); ++p) e[p] = net.particle_energy(u, map, p);
             return e;
         },
         py::arg("model"), py::arg("topology"), py::arg("x"), "Deformation energy of each particle, shape (n_particles,).");
@@ -47,50 +80,62 @@ void export_network_functions(pybind11::module_& m) {
         [](const Model& model, const Topology& t, const Vector& x) {
             const Network<Model> net{model, t};
             check_state(net, x);
+            const Vector u = displacement_of(t, x);
+            const PeriodMap map = net.period_map(u);
             Eigen::MatrixXd out(t.n_particles(), 2 * Model::kCornerCount);
-            for (int p = 0; p < t.n_particles(); ++p) out.row(p) = net.gather(x, p).transpose();
+            for (int p = 0; p < t.n_particles(); ++p) {
+                auto c = net.local_corners(u, map, p);
+                const Vec2 site = site_position(t.sites[p]);
+                for (int s = 0; s < Model::kCornerCount; ++s) c.template segment<2>(2 * s) += site;
+                out.row(p) = c.transpose();
+            }
             return out;
         },
         py::arg("model"), py::arg("topology"), py::arg("x"),
         "Corner positions seen by each particle, shape (n_particles, 2 * corners): x0, y0, x1, y1, ...");
     m.def(
         "relax_lbfgs",
-        [](const Model& model, const Topology& t, const Vector& x0, double tol, int max_iter, int memory) {
+        [](const Model& model, const Topology& t, const Vector& x0, double tol, int max_iter, int memory,
+           StiffnessCache* cache) {
             MinimizeResult r;
             {
                 py::gil_scoped_release release;
-                r = relax_lbfgs(model, t, x0, make_options(tol, max_iter, memory, model.step_scale()));
+                r = relax_lbfgs(model, t, x0, make_options(tol, max_iter, memory, model.step_scale()), cache);
             }
             return to_dict(r);
         },
         py::arg("model"), py::arg("topology"), py::arg("x0"), py::arg("tol"), py::arg("max_iter"), py::arg("memory") = 10,
-        "NLopt L-BFGS from x0 until max |gradient| <= tol; returns a dict (x, energy, converged, iterations, "
-        "gradient_norm, status).");
+        py::arg("cache") = nullptr,
+        "NLopt L-BFGS from x0 until max |gradient| <= tol, finished by Newton steps if NLopt stops short; returns a "
+        "dict (x, displacement, energy, converged, iterations, gradient_norm, status, newton_steps, ...).");
     m.def(
         "relax_newton",
-        [](const Model& model, const Topology& t, double tol, int max_iter) {
+        [](const Model& model, const Topology& t, double tol, int max_iter, StiffnessCache* cache, bool exact) {
             MinimizeResult r;
             {
                 py::gil_scoped_release release;
-                r = relax_newton(model, t, make_options(tol, max_iter, 10, model.step_scale()));
+                MinimizeOptions o = make_options(tol, max_iter, 10, model.step_scale());
+                o.newton_exact_from_start = exact;
+                r = relax_newton(model, t, o, cache);
             }
             return to_dict(r);
         },
-        py::arg("model"), py::arg("topology"), py::arg("tol"), py::arg("max_iter"),
-        "Newton steps with the factorised reference stiffness from the linear solution, until max |gradient| <= "
-        "tol (L-BFGS takes over if they stall); returns a dict like relax_lbfgs.");
+        py::arg("model"), py::arg("topology"), py::arg("tol"), py::arg("max_iter"), py::arg("cache") = nullptr,
+        py::arg("exact") = false,
+        "Newton steps from the linear solution until max |gradient| <= tol: reference stiffness while it "
+        "contracts fast, then the exact Hessian (exact=True: from the start); returns a dict like relax_lbfgs.");
     m.def(
         "relax_linear",
-        [](const Model& model, const Topology& t) {
+        [](const Model& model, const Topology& t, StiffnessCache* cache) {
             MinimizeResult r;
             {
                 py::gil_scoped_release release;
-                r = relax_linear(model, t);
+                r = relax_linear(model, t, cache);
             }
             return to_dict(r);
         },
-        py::arg("model"), py::arg("topology"),
-        "Linearised solve about the bulk reference (sparse LDL^T), exact as eps -> 0.");
+        py::arg("model"), py::arg("topology"), py::arg("cache") = nullptr,
+        "Linearised solve about the bulk reference (sparse Cholesky), exact as eps -> 0.");
 }
 
 }  // namespace pyfrustrate

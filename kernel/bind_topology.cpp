@@ -1,4 +1,5 @@
 #include "network.hpp"
+#include "relax.hpp"
 #include "topology.hpp"
 
 #include <pybind11/eigen.h>
@@ -78,10 +79,16 @@ void export_topology(py::module_& m) {
                     throw std::invalid_argument("state has " + std::to_string(state.size()) + " entries, expected " +
                                                 std::to_string(expected));
                 if (points.cols() != 2) throw std::invalid_argument("points must have shape (m, 2)");
-                const double* period = state.data() + 2 * t.n_corners();
+                const Eigen::VectorXd period_displacement =
+                    state.tail(t.n_period_parameters()) - t.reference_period_parameters();
+                const PeriodMap map(t, period_displacement.data(), std::max(std::abs(n1), std::abs(n2)));
+                const LatticeVector n{n1, n2};
+                const Vec2 reference_shift = n1 * site_position(t.periods[0]) + n2 * site_position(t.periods[1]);
                 Eigen::MatrixXd out(points.rows(), 2);
-                for (Eigen::Index k = 0; k < points.rows(); ++k)
-                    out.row(k) = detail::image_point(t, points.row(k).transpose(), {n1, n2}, period).position.transpose();
+                for (Eigen::Index k = 0; k < points.rows(); ++k) {
+                    const Vec2 r = points.row(k).transpose();
+                    out.row(k) = (r + reference_shift + map.displacement(n, r, Vec2::Zero())).transpose();
+                }
                 return out;
             },
             py::arg("state"), py::arg("points"), py::arg("n1"), py::arg("n2") = 0,
@@ -89,4 +96,16 @@ void export_topology(py::module_& m) {
             "energy uses (kernel/network.hpp).")
         .def("reference_state", &Topology::reference_state,
              "Flat reference state: corners (x0, y0, x1, ...) then period-map parameters.");
+
+    py::class_<StiffnessCache>(m, "StiffnessCache",
+                               "What every solve on one topology reuses: the Hessian's sparsity pattern, CHOLMOD's "
+                               "symbolic analysis, and the factorised eps = 0 stiffness of the last particle "
+                               "stiffness it served (refactorised, numerically only, when that changes).")
+        .def(py::init<const Topology&>(), py::arg("topology"), py::keep_alive<1, 2>())
+        .def_property_readonly("reference_factorizations", &StiffnessCache::reference_factorizations,
+                               "How many times the reference stiffness was factorised.")
+        .def_property_readonly("factor_nonzeros", [](const StiffnessCache& c) { return c.analysis() ? c.analysis()->factor_nonzeros() : -1L; },
+                               "Nonzeros of the Cholesky factor (-1 before the first solve).")
+        .def_property_readonly("supernodal", [](const StiffnessCache& c) { return c.analysis() && c.analysis()->supernodal(); },
+                               "Whether CHOLMOD chose its supernodal factorisation.");
 }

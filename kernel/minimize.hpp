@@ -23,6 +23,10 @@ struct MinimizeOptions {
     // unit length in its variables, which must be small on the scale of the problem (here the
     // mismatch eps): a long step can leave a merely local minimum.
     double step_scale = 1.0;
+    // relax_lbfgs: finish with Newton steps when NLopt stops short of the tolerance.
+    bool finish_with_newton = true;
+    // relax_newton: exact Hessian from the first step (else the reference stiffness first).
+    bool newton_exact_from_start = false;
 };
 
 struct MinimizeResult {
@@ -31,7 +35,13 @@ struct MinimizeResult {
     bool converged = false;
     int iterations = 0;       // energy+gradient evaluations
     double gradient_norm = 0; // max |dE/dx_i| at x
-    std::string status;       // NLopt's last status, or "linear solve"
+    std::string status;       // the minimisers' last word: which did the work and why it stopped
+    // Set by the relaxations (relax.hpp): the displacement from the bulk reference (x holds
+    // positions), Newton steps taken and exact Hessians factorised, L-BFGS's share of iterations.
+    Vector displacement;
+    int newton_steps = 0;
+    int factorizations = 0;
+    int lbfgs_evaluations = 0;
 };
 
 // NLopt's LD_LBFGS from x0; stops as soon as the gradient tolerance is met (NLopt itself has

@@ -10,7 +10,7 @@ void export_random_hexagon(py::module_& m);
 void export_montecarlo(py::module_& m);
 
 PYBIND11_MODULE(_kernel, m) {
-    m.doc() = "pyfrustrate's C++ kernel (Eigen + NLopt): energies, gradients, L-BFGS and linear solves";
+    m.doc() = "pyfrustrate's C++ kernel (Eigen, NLopt, CHOLMOD): energies, gradients, Hessians, L-BFGS, Newton and linear solves";
     export_chain(m);
     export_topology(m);
     export_hexagon(m);

@@ -3,7 +3,13 @@
 // energy at fixed topology); the loop over particles and the period map are written once here
 // for every particle model.
 //
-// Degrees of freedom: x = (corner 0 (x, y), corner 1 (x, y), ..., period-map parameters).
+// Degrees of freedom. The public state is x = (corner 0 (x, y), corner 1 (x, y), ..., period-map
+// parameters); the network works on the displacement u = x - x_ref from the bulk reference
+// (Topology::reference_state). A particle is evaluated in its own frame: slot offset plus the
+// displacements of its corners (and of their periodic images). No coordinate of the size of the
+// aggregate enters a force, so the forces keep their digits at R = 100 or a fibre of width
+// 1000 (in absolute coordinates a force of a relaxation at eps loses |x| / eps of them).
+//
 // The period map sends a corner of the cell to its image n:
 //   fibre, straight:  r + n t
 //   fibre, curved:    g^n(r) with g(r) = R(theta) (r - c) + c + t (a rigid motion about the
@@ -13,171 +19,330 @@
 
 #include "topology.hpp"
 
-#include <Eigen/Sparse>
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace pyfrustrate {
 
-namespace detail {
+using Vector = Eigen::VectorXd;
+using Mat2 = Eigen::Matrix2d;
+constexpr int kMaxPeriodParameters = 4;
+using PeriodJacobian = Eigen::Matrix<double, 2, kMaxPeriodParameters>;
 
-inline Eigen::Matrix2d rotation(double angle) {
-    const double c = std::cos(angle), s = std::sin(angle);
-    Eigen::Matrix2d r;
-    r << c, -s, s, c;
-    return r;
-}
+// The period map at one state, in displacement form: the image n of a corner with reference
+// position r_ref and displacement u is displaced from its reference image r_ref + n t_ref by
+//   translations:  u + n1 dt1 + n2 dt2
+//   curved fibre:  (R(n theta) - 1)(r_ref - c) + R(n theta) u + n dt + sum_a sigma (R(a theta) - 1) t
+// where the sum runs over the rotations the n steps compose (a = 0..n-1, sigma = +1 for n > 0;
+// a = -1..n, sigma = -1 for n < 0) and R - 1 is evaluated without cancellation (cos - 1 =
+// -2 sin^2). Everything that depends on n only is computed once per state here.
+class PeriodMap {
+   public:
+    // image_range: the largest |n| asked for (at least the topology's own max_image).
+    PeriodMap(const Topology& t, const double* period_displacement, int image_range = 0)
+        : t_(t), np_(t.n_period_parameters()), range_(std::max(image_range, t.max_image)) {
+        if (t.periodicity == Periodicity::None) return;
+        dt_[0] = Vec2(period_displacement[0], period_displacement[1]);
+        if (t.periodicity == Periodicity::Bulk) dt_[1] = Vec2(period_displacement[2], period_displacement[3]);
+        if (!t.curved) return;
+        const Vec2 period = t.reference_period_parameters().head<2>() + dt_[0];
+        theta_ = period_displacement[2] / t.bend_scale;
+        steps_.resize(2 * range_ + 1);
+        for (int n = -range_; n <= range_; ++n) {
+            Step& st = steps_[n + range_];
+            st.rotation = rotation(n * theta_);
+            st.rotation_minus_one = rotation_minus_one(n * theta_);
+            st.shift = n * dt_[0];
+            st.d_shift.setZero();
+            st.d_theta.setZero();
+            st.dd_theta.setZero();
+            st.dd_theta_shift.setZero();
+            const int sigma = n > 0 ? 1 : -1;
+            for (int m = 0; m < std::abs(n); ++m) {
+                const int a = n > 0 ? m : -(m + 1);
+                const Mat2 ra = rotation(a * theta_);
+                st.shift += sigma * (rotation_minus_one(a * theta_) * period);
+                st.d_shift += sigma * ra;
+                st.d_theta += sigma * a * (ra * quarter() * period);
+                st.dd_theta -= sigma * a * a * (ra * period);
+                st.dd_theta_shift += sigma * a * (ra * quarter());
+            }
+        }
+    }
 
-// Position of image n of corner r, with the Jacobians d(pos)/dr (2x2) and d(pos)/dp (2 x np)
-// with respect to the period parameters p.
-struct ImagePoint {
-    Eigen::Vector2d position;
-    Eigen::Matrix2d d_corner;
-    Eigen::Matrix<double, 2, Eigen::Dynamic> d_period;
+    int n_parameters() const { return np_; }
+    bool translation_only() const { return !t_.curved; }
+
+    // Displacement of image n of a corner (reference r_ref, displacement u) from its reference image.
+    Vec2 displacement(const LatticeVector& n, const Vec2& r_ref, const Vec2& u) const {
+        if (n[0] == 0 && n[1] == 0) return u;
+        if (!t_.curved) return u + n[0] * dt_[0] + n[1] * dt_[1];
+        const Step& st = step(n[0]);
+        return st.rotation_minus_one * (r_ref - t_.pivot) + st.rotation * u + st.shift;
+    }
+
+    // First derivatives of that image position: d/du (2x2) and d/d(period parameters) (2 x np).
+    void jacobian(const LatticeVector& n, const Vec2& r_ref, const Vec2& u, Mat2& d_corner,
+                  PeriodJacobian& d_period) const {
+        d_period.setZero();
+        if (!t_.curved) {
+            d_corner.setIdentity();
+            d_period.block<2, 2>(0, 0).diagonal().setConstant(n[0]);
+            if (t_.periodicity == Periodicity::Bulk) d_period.block<2, 2>(0, 2).diagonal().setConstant(n[1]);
+            return;
+        }
+        const Step& st = step(n[0]);
+        d_corner = st.rotation;
+        d_period.block<2, 2>(0, 0) = st.d_shift;
+        d_period.col(2) = (n[0] * (st.rotation * quarter() * (r_ref - t_.pivot + u)) + st.d_theta) / t_.bend_scale;
+    }
+
+    // Curvature of the map contracted with a force f = de/d(image position): the second
+    // derivatives f . d2pos / dq dq' that the exact Hessian adds to J^T h J. Only the bend
+    // angle enters nonlinearly: d2/dtheta2, d2/dtheta du, d2/dtheta dt (zero for translations).
+    // Writes the row of d2/d(bend) d(u_x, u_y, t_x, t_y) into mixed and d2/d(bend)^2 into pure.
+    void curvature(const LatticeVector& n, const Vec2& r_ref, const Vec2& u, const Vec2& f,
+                   Eigen::Matrix<double, 1, 4>& mixed, double& pure) const {
+        const Step& st = step(n[0]);
+        const double s = 1.0 / t_.bend_scale;
+        const Vec2 r = r_ref - t_.pivot + u;
+        pure = f.dot(-double(n[0]) * n[0] * (st.rotation * r) + st.dd_theta) * s * s;
+        mixed.head<2>() = (n[0] * s) * (f.transpose() * st.rotation * quarter());
+        mixed.tail<2>() = s * (f.transpose() * st.dd_theta_shift);
+    }
+
+   private:
+    struct Step {
+        Mat2 rotation, rotation_minus_one, d_shift, dd_theta_shift;
+        Vec2 shift, d_theta, dd_theta;
+    };
+    const Step& step(int n) const { return steps_[n + range_]; }
+
+    static Mat2 rotation(double a) {
+        Mat2 r;
+        r << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
+        return r;
+    }
+    static Mat2 rotation_minus_one(double a) {
+        const double s = std::sin(a), c1 = -2 * std::sin(0.5 * a) * std::sin(0.5 * a);
+        Mat2 r;
+        r << c1, -s, s, c1;
+        return r;
+    }
+    static Mat2 quarter() {  // dR(a)/da = R(a) * quarter
+        Mat2 q;
+        q << 0, -1, 1, 0;
+        return q;
+    }
+
+    const Topology& t_;
+    int np_;
+    int range_;
+    Vec2 dt_[2] = {Vec2::Zero(), Vec2::Zero()};
+    double theta_ = 0;
+    std::vector<Step> steps_;
 };
 
-inline ImagePoint image_point(const Topology& t, const Eigen::Vector2d& r, const LatticeVector& n,
-                              const double* period) {
-    ImagePoint out;
-    const int np = t.n_period_parameters();
-    out.d_period.setZero(2, np);
-    out.d_corner.setIdentity();
-    out.position = r;
-    if (n[0] == 0 && n[1] == 0) return out;
-    if (t.periodicity == Periodicity::Bulk) {
-        out.position += n[0] * Eigen::Vector2d(period[0], period[1]) + n[1] * Eigen::Vector2d(period[2], period[3]);
-        out.d_period.block<2, 2>(0, 0) = n[0] * Eigen::Matrix2d::Identity();
-        out.d_period.block<2, 2>(0, 2) = n[1] * Eigen::Matrix2d::Identity();
-        return out;
-    }
-    const Eigen::Vector2d tr(period[0], period[1]);
-    if (!t.curved) {
-        out.position += n[0] * tr;
-        out.d_period.block<2, 2>(0, 0) = n[0] * Eigen::Matrix2d::Identity();
-        return out;
-    }
-    // g(r) = R(theta) (r - c) + c + t about the pivot c, so g^n(r) = R(n theta)(r - c) + c + s_n
-    // with s_n = sum_{m=0}^{n-1} R(m theta) t for n > 0 and s_n = -sum_{m=1}^{|n|} R(-m theta) t
-    // for n < 0. The state holds bend = bend_scale * theta.
-    const double theta = period[2] / t.bend_scale;
-    const Eigen::Matrix2d quarter = rotation(M_PI / 2);  // dR(a)/da = R(a) * quarter
-    const int steps = n[0];
-    const Eigen::Matrix2d rn = rotation(steps * theta);
-    out.d_corner = rn;
-    out.position = rn * (r - t.pivot) + t.pivot;
-    Eigen::Matrix2d d_shift = Eigen::Matrix2d::Zero();
-    Eigen::Vector2d d_theta = steps * rn * quarter * (r - t.pivot);
-    if (steps > 0) {
-        for (int m = 0; m < steps; ++m) {
-            const Eigen::Matrix2d rm = rotation(m * theta);
-            out.position += rm * tr;
-            d_shift += rm;
-            d_theta += m * rm * quarter * tr;
-        }
-    } else {
-        for (int m = 1; m <= -steps; ++m) {
-            const Eigen::Matrix2d rm = rotation(-m * theta);
-            out.position -= rm * tr;
-            d_shift -= rm;
-            d_theta += m * rm * quarter * tr;
-        }
-    }
-    out.d_period.block<2, 2>(0, 0) = d_shift;
-    out.d_period.col(2) = d_theta / t.bend_scale;
-    return out;
-}
+// Positions x -> displacements u = x - x_ref and back.
+inline Vector displacement_of(const Topology& t, const Vector& x) { return x - t.reference_state(); }
+inline Vector state_of(const Topology& t, const Vector& u) { return t.reference_state() + u; }
 
-}  // namespace detail
+// Sparsity of a network's Hessian restricted to the free degrees of freedom (all but the pinned
+// ones), built once per topology: the upper triangle in compressed columns, and for every
+// particle the position in it of each entry of its local Hessian. A particle couples its
+// corners and, when one of its slots is a periodic image, the period-map parameters.
+struct HessianPattern {
+    int n_free = 0;
+    std::vector<int> free_index;               // dof -> free index, -1 if pinned
+    std::vector<int> column_start, row;        // upper-triangular CSC on the free dof
+    std::vector<int> local_dof;                // per particle: (2C + np) global dof, -1 unused
+    std::vector<int> slot;                     // per particle: (2C + np)^2 positions in `row`, -1 unused
+    int local_size = 0;
+};
 
 template <class Model>
 struct Network {
     static constexpr int C = Model::kCornerCount;
+    static_assert(C == kCorners, "the particle model's corner count must match the lattice's corner slots");
     using Corners = typename Model::Corners;
+    using ParticleHessian = typename Model::Hessian;
 
     const Model& model;
     const Topology& topology;
 
     int size() const { return 2 * topology.n_corners() + topology.n_period_parameters(); }
+    int n_corner_dof() const { return 2 * topology.n_corners(); }
 
-    // Corner coordinates seen by particle p, and the image Jacobians.
-    Corners gather(const Eigen::VectorXd& x, int p, detail::ImagePoint* jac = nullptr) const {
-        const double* period = x.data() + 2 * topology.n_corners();
+    PeriodMap period_map(const Vector& u) const { return PeriodMap(topology, u.data() + n_corner_dof()); }
+
+    bool has_image(int p) const {
+        for (int s = 0; s < C; ++s)
+            if (topology.image[p][s][0] != 0 || topology.image[p][s][1] != 0) return true;
+        return false;
+    }
+
+    // Corners of particle p in its own frame (slot offsets plus displacements).
+    Corners local_corners(const Vector& u, const PeriodMap& map, int p) const {
         Corners c;
+        const auto& ids = topology.corner[p];
+        const auto& images = topology.image[p];
         for (int s = 0; s < C; ++s) {
-            const int id = topology.corner[p][s];
-            const Eigen::Vector2d r = x.template segment<2>(2 * id);
-            const auto& n = topology.image[p][s];
-            if (n[0] == 0 && n[1] == 0 && !jac) {
-                c.template segment<2>(2 * s) = r;
-                continue;
-            }
-            detail::ImagePoint ip = detail::image_point(topology, r, n, period);
-            c.template segment<2>(2 * s) = ip.position;
-            if (jac) jac[s] = ip;
+            const Vec2 ui = u.template segment<2>(2 * ids[s]);
+            c.template segment<2>(2 * s) =
+                topology.slot_offset[s] + map.displacement(images[s], topology.reference[ids[s]], ui);
         }
         return c;
     }
 
-    double particle_energy(const Eigen::VectorXd& x, int p) const {
-        return model.energy(gather(x, p), nullptr);
+    double particle_energy(const Vector& u, const PeriodMap& map, int p) const {
+        return model.energy(local_corners(u, map, p), nullptr);
     }
 
-    // Total energy; adds dE/dx into `gradient` when given (resized and zeroed here).
-    double energy(const Eigen::VectorXd& x, Eigen::VectorXd* gradient) const {
-        const int nc = topology.n_corners();
-        const bool periodic_images = topology.periodicity != Periodicity::None;
+    // Total energy at displacement u; writes dE/du into `gradient` when given.
+    double energy(const Vector& u, Vector* gradient) const {
+        const PeriodMap map = period_map(u);
         if (gradient) gradient->setZero(size());
+        const int np = topology.n_particles();
         double total = 0.0;
-        detail::ImagePoint jac[C];
-        Corners g;
-        for (int p = 0; p < topology.n_particles(); ++p) {
-            const Corners c = gather(x, p, periodic_images && gradient ? jac : nullptr);
-            if (!gradient) {
-                total += model.energy(c, nullptr);
-                continue;
-            }
-            g.setZero();
-            total += model.energy(c, &g);
+        if (!gradient) {
+            for (int p = 0; p < np; ++p) total += model.energy(local_corners(u, map, p), nullptr);
+            return total;
+        }
+        double* g = gradient->data();
+        Corners local_gradient;
+        Mat2 d_corner;
+        PeriodJacobian d_period;
+        const int nc2 = n_corner_dof(), npp = topology.n_period_parameters();
+        for (int p = 0; p < np; ++p) {
+            const auto& ids = topology.corner[p];
+            const Corners c = local_corners(u, map, p);
+            local_gradient.setZero();
+            total += model.energy(c, &local_gradient);
+            const auto& images = topology.image[p];
             for (int s = 0; s < C; ++s) {
-                const int id = topology.corner[p][s];
-                const Eigen::Vector2d gs = g.template segment<2>(2 * s);
-                if (!periodic_images) {
-                    gradient->template segment<2>(2 * id) += gs;
+                const Vec2 gs = local_gradient.template segment<2>(2 * s);
+                const int id = ids[s];
+                if (images[s][0] == 0 && images[s][1] == 0) {
+                    g[2 * id] += gs[0];
+                    g[2 * id + 1] += gs[1];
                     continue;
                 }
-                gradient->template segment<2>(2 * id) += jac[s].d_corner.transpose() * gs;
-                gradient->segment(2 * nc, topology.n_period_parameters()) += jac[s].d_period.transpose() * gs;
+                map.jacobian(images[s], topology.reference[id], u.template segment<2>(2 * id), d_corner, d_period);
+                const Vec2 gc = d_corner.transpose() * gs;
+                g[2 * id] += gc[0];
+                g[2 * id + 1] += gc[1];
+                for (int k = 0; k < npp; ++k) g[nc2 + k] += d_period.col(k).dot(gs);
             }
         }
         return total;
     }
 
-    // Sparse Hessian J^T H_p J of the particle energies, ignoring the curvature of the period
-    // map (exact where the particle gradients vanish, as at the rest state of the eps = 0 model
-    // used by the linear solve).
-    Eigen::SparseMatrix<double> gauss_newton_hessian(const Eigen::VectorXd& x) const {
-        const int nc = topology.n_corners(), np = topology.n_period_parameters();
-        std::vector<Eigen::Triplet<double>> entries;
-        entries.reserve(static_cast<size_t>(topology.n_particles()) * 4 * C * C);
-        detail::ImagePoint jac[C];
-        for (int p = 0; p < topology.n_particles(); ++p) {
-            const Corners c = gather(x, p, jac);
-            typename Model::Hessian h = Model::Hessian::Zero();
-            model.energy(c, nullptr, &h);
-            // Full Jacobian of this particle's corners: 2C rows, columns = its corners + period.
-            Eigen::MatrixXd J = Eigen::MatrixXd::Zero(2 * C, 2 * C + np);
-            for (int s = 0; s < C; ++s) {
-                J.block<2, 2>(2 * s, 2 * s) = jac[s].d_corner;
-                if (np) J.block(2 * s, 2 * C, 2, np) = jac[s].d_period;
-            }
-            const Eigen::MatrixXd local = J.transpose() * h * J;
-            auto global = [&](int a) { return a < 2 * C ? 2 * topology.corner[p][a / 2] + a % 2 : 2 * nc + (a - 2 * C); };
-            for (int a = 0; a < 2 * C + np; ++a)
-                for (int b = 0; b < 2 * C + np; ++b)
-                    if (local(a, b) != 0.0) entries.emplace_back(global(a), global(b), local(a, b));
+    // The sparsity pattern of the Hessian on the free degrees of freedom (all but `pins`).
+    HessianPattern hessian_pattern(const std::vector<int>& pins) const {
+        HessianPattern pat;
+        const int n = size(), npp = topology.n_period_parameters();
+        pat.free_index.assign(n, 0);
+        for (int i : pins) pat.free_index[i] = -1;
+        for (int i = 0; i < n; ++i)
+            if (pat.free_index[i] >= 0) pat.free_index[i] = pat.n_free++;
+        pat.local_size = 2 * C + npp;
+        const int L = pat.local_size, np = topology.n_particles();
+        pat.local_dof.assign(static_cast<size_t>(np) * L, -1);
+        std::vector<std::vector<int>> columns(pat.n_free);
+        for (int p = 0; p < np; ++p) {
+            int* dof = &pat.local_dof[static_cast<size_t>(p) * L];
+            for (int s = 0; s < C; ++s) dof[2 * s] = 2 * topology.corner[p][s], dof[2 * s + 1] = dof[2 * s] + 1;
+            if (has_image(p))
+                for (int k = 0; k < npp; ++k) dof[2 * C + k] = n_corner_dof() + k;
+            for (int a = 0; a < L; ++a)
+                for (int b = 0; b < L; ++b) {
+                    if (dof[a] < 0 || dof[b] < 0) continue;
+                    const int i = pat.free_index[dof[a]], j = pat.free_index[dof[b]];
+                    if (i >= 0 && j >= 0 && i <= j) columns[j].push_back(i);
+                }
         }
-        Eigen::SparseMatrix<double> H(size(), size());
-        H.setFromTriplets(entries.begin(), entries.end());
-        return H;
+        pat.column_start.assign(pat.n_free + 1, 0);
+        for (int j = 0; j < pat.n_free; ++j) {
+            auto& col = columns[j];
+            std::sort(col.begin(), col.end());
+            col.erase(std::unique(col.begin(), col.end()), col.end());
+            pat.column_start[j + 1] = pat.column_start[j] + static_cast<int>(col.size());
+        }
+        pat.row.reserve(pat.column_start.back());
+        for (const auto& col : columns) pat.row.insert(pat.row.end(), col.begin(), col.end());
+        pat.slot.assign(static_cast<size_t>(np) * L * L, -1);
+        for (int p = 0; p < np; ++p) {
+            const int* dof = &pat.local_dof[static_cast<size_t>(p) * L];
+            for (int a = 0; a < L; ++a)
+                for (int b = 0; b < L; ++b) {
+                    if (dof[a] < 0 || dof[b] < 0) continue;
+                    const int i = pat.free_index[dof[a]], j = pat.free_index[dof[b]];
+                    if (i < 0 || j < 0 || i > j) continue;
+                    const auto first = pat.row.begin() + pat.column_start[j];
+                    const auto last = pat.row.begin() + pat.column_start[j + 1];
+                    pat.slot[(static_cast<size_t>(p) * L + a) * L + b] = static_cast<int>(std::lower_bound(first, last, i) - pat.row.begin());
+                }
+        }
+        return pat;
+    }
+
+    // Values of the Hessian at u on `pattern` (upper triangle, free dof). exact = true: the
+    // full Hessian, J^T h J plus the curvature of the period map contracted with the particle
+    // forces; exact = false: the Gauss-Newton part J^T h J only (exact where the particle
+    // forces vanish, as at the rest state of the eps = 0 model used by the linear solve).
+    std::vector<double> hessian(const Vector& u, const HessianPattern& pattern, bool exact) const {
+        const PeriodMap map = period_map(u);
+        std::vector<double> values(pattern.row.size(), 0.0);
+        const int L = pattern.local_size, npp = topology.n_period_parameters();
+        Eigen::Matrix<double, 2 * C, 2 * C + kMaxPeriodParameters> J;
+        Eigen::Matrix<double, 2 * C + kMaxPeriodParameters, 2 * C + kMaxPeriodParameters> local;
+        Mat2 d_corner;
+        PeriodJacobian d_period;
+        for (int p = 0; p < topology.n_particles(); ++p) {
+            const Corners c = local_corners(u, map, p);
+            ParticleHessian h = ParticleHessian::Zero();
+            Corners f = Corners::Zero();
+            model.energy(c, exact ? &f : nullptr, &h);
+            if (!has_image(p)) {
+                local.template topLeftCorner<2 * C, 2 * C>() = h;
+            } else {
+                J.setZero();
+                for (int s = 0; s < C; ++s) {
+                    const int id = topology.corner[p][s];
+                    map.jacobian(topology.image[p][s], topology.reference[id], u.template segment<2>(2 * id), d_corner,
+                                 d_period);
+                    J.template block<2, 2>(2 * s, 2 * s) = d_corner;
+                    J.template block<2, kMaxPeriodParameters>(2 * s, 2 * C) = d_period;
+                }
+                local.noalias() = J.transpose() * h * J;
+                if (exact && !map.translation_only()) {
+                    const int bend = 2 * C + 2;
+                    Eigen::Matrix<double, 1, 4> mixed;
+                    double pure;
+                    for (int s = 0; s < C; ++s) {
+                        const auto& n = topology.image[p][s];
+                        if (n[0] == 0) continue;
+                        const int id = topology.corner[p][s];
+                        map.curvature(n, topology.reference[id], u.template segment<2>(2 * id),
+                                      f.template segment<2>(2 * s), mixed, pure);
+                        local(bend, bend) += pure;
+                        for (int k = 0; k < 2; ++k) {
+                            local(bend, 2 * s + k) += mixed(k), local(2 * s + k, bend) += mixed(k);
+                            local(bend, 2 * C + k) += mixed(2 + k), local(2 * C + k, bend) += mixed(2 + k);
+                        }
+                    }
+                }
+            }
+            const int* slot = &pattern.slot[static_cast<size_t>(p) * L * L];
+            const int extent = has_image(p) ? 2 * C + npp : 2 * C;
+            for (int a = 0; a < extent; ++a)
+                for (int b = 0; b < extent; ++b) {
+                    const int k = slot[a * L + b];
+                    if (k >= 0) values[k] += local(a, b);
+                }
+        }
+        return values;
     }
 };
 

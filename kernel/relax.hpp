@@ -1,27 +1,31 @@
-// Minimising a network's energy at fixed topology (main text Eq. 7, the inner minimisation):
-// NLopt L-BFGS on the full nonlinear energy, or the linearised solve, exact as eps -> 0.
+// Minimising a network's energy at fixed topology (main text Eq. 7, the inner minimisation).
+//
+//   relax_linear   one solve with the eps = 0 reference stiffness: the linear response, exact as
+//                  eps -> 0 (energy error O(eps^2) relative)
+//   relax_newton   the nonlinear minimum to round-off: Newton steps with the reference stiffness
+//                  while they contract fast, then with the exact Hessian (period-map curvature
+//                  included), each step with a backtracking line search that guarantees descent
+//   relax_lbfgs    NLopt's L-BFGS (the design's named minimiser); when it stops short of the
+//                  tolerance (ftol, xtol, roundoff), Newton steps finish the job
+//
+// All work on the displacement u = x - x_ref (network.hpp) and share a StiffnessCache: the
+// Hessian's sparsity pattern and CHOLMOD's symbolic analysis, made once per topology, and the
+// factorised reference stiffness, made once per (particle stiffness, topology). A caller that
+// relaxes one topology many times owns a cache and passes it; otherwise each call makes one.
 #pragma once
 
+#include "cholesky.hpp"
 #include "minimize.hpp"
 #include "network.hpp"
 
-#include <Eigen/SparseCholesky>
 #include <algorithm>
-#include <string>
+#include <cmath>
+#include <limits>
+#include <memory>
 #include <stdexcept>
+#include <string>
 
 namespace pyfrustrate {
-
-template <class Model>
-MinimizeResult relax_lbfgs(const Model& model, const Topology& topology, const Vector& x0,
-                           const MinimizeOptions& options) {
-    const Network<Model> net{model, topology};
-    if (x0.size() != net.size())
-        throw std::invalid_argument("x0 has " + std::to_string(x0.size()) + " entries, the network has " +
-                                    std::to_string(net.size()) + " degrees of freedom");
-    const Objective objective = [&net](const Vector& x, Vector& g) { return net.energy(x, &g); };
-    return minimize_lbfgs(objective, x0, options);
-}
 
 // Degrees of freedom held fixed to remove the three rigid-body zero modes (two translations
 // and a rotation, which also turns the period vectors): corner 0, and the coordinate of the
@@ -45,7 +49,7 @@ inline std::vector<int> rigid_body_pins(const Topology& t) {
 // rotation left in the state would be stretched by the nonlinear energy (angle squared).
 inline void remove_rigid_motion(const Topology& t, Vector& displacement) {
     const int nc = t.n_corners();
-    const Vector x_ref = t.reference_state();
+    const Vector period_ref = t.reference_period_parameters();
     Eigen::Vector2d centroid = Eigen::Vector2d::Zero(), shift = Eigen::Vector2d::Zero();
     for (int c = 0; c < nc; ++c) {
         centroid += t.reference[c];
@@ -66,7 +70,7 @@ inline void remove_rigid_motion(const Topology& t, Vector& displacement) {
         }
         angle /= moment;
     } else {
-        const Eigen::Vector2d axis = x_ref.segment<2>(2 * nc);
+        const Eigen::Vector2d axis = period_ref.head<2>();
         angle = cross(axis, displacement.segment<2>(2 * nc)) / axis.squaredNorm();
     }
     for (int c = 0; c < nc; ++c) {
@@ -75,141 +79,275 @@ inline void remove_rigid_motion(const Topology& t, Vector& displacement) {
     }
     const int n_vectors = t.periodicity == Periodicity::Bulk ? 2 : (t.periodicity == Periodicity::Fiber ? 1 : 0);
     for (int v = 0; v < n_vectors; ++v) {
-        const Eigen::Vector2d p = x_ref.segment<2>(2 * nc + 2 * v);
+        const Eigen::Vector2d p = period_ref.segment<2>(2 * v);
         displacement.segment<2>(2 * nc + 2 * v) -= angle * Eigen::Vector2d(-p.y(), p.x());
     }
 }
 
-// The stiffness of the linearised (eps -> 0) theory: the Hessian of the particles without
-// mismatch at the bulk reference, positive semi-definite, with the three rigid-body degrees of
-// freedom pinned. Factorised once; every solve after that is two triangular sweeps.
-class ReferenceStiffness {
+// What every solve on one topology reuses. Owned by the caller (Python: pf.StiffnessCache), never
+// global. The reference factor is keyed by the particle's stiffness at rest (the Hessian of the
+// model without mismatch at the reference corners, which is all the eps = 0 stiffness depends
+// on), so one cache serves any particle and refactorises (numerically only) when that changes.
+class StiffnessCache {
    public:
+    explicit StiffnessCache(const Topology& topology)
+        : topology_(topology), pins_(rigid_body_pins(topology)) {}
+
+    const Topology& topology() const { return topology_; }
+    const std::vector<int>& pins() const { return pins_; }
+    int reference_factorizations() const { return reference_factorizations_; }
+
     template <class Model>
-    ReferenceStiffness(const Model& model, const Topology& topology) : size_(0) {
+    const HessianPattern& pattern(const Network<Model>& net) {
+        if (!pattern_) {
+            pattern_ = std::make_unique<HessianPattern>(net.hessian_pattern(pins_));
+            analysis_ = std::make_shared<CholeskyAnalysis>(pattern_->n_free, pattern_->column_start, pattern_->row);
+        }
+        return *pattern_;
+    }
+
+    std::shared_ptr<CholeskyAnalysis> analysis() const { return analysis_; }
+
+    // The factorised eps = 0 stiffness of `model`'s particle on this topology.
+    template <class Model>
+    const CholeskyFactor& reference(const Model& model) {
         const Model rest_model = model.without_mismatch();
-        const Network<Model> rest{rest_model, topology};
-        size_ = rest.size();
-        const Eigen::SparseMatrix<double> H = rest.gauss_newton_hessian(topology.reference_state());
-        const std::vector<int> pins = rigid_body_pins(topology);
-        free_index_.assign(size_, -1);
-        int n_free = 0;
-        for (int i = 0; i < size_; ++i)
-            if (std::find(pins.begin(), pins.end(), i) == pins.end()) free_index_[i] = n_free++;
-        std::vector<Eigen::Triplet<double>> entries;
-        for (int col = 0; col < H.outerSize(); ++col)
-            for (Eigen::SparseMatrix<double>::InnerIterator it(H, col); it; ++it)
-                if (free_index_[it.row()] >= 0 && free_index_[it.col()] >= 0)
-                    entries.emplace_back(free_index_[it.row()], free_index_[it.col()], it.value());
-        Eigen::SparseMatrix<double> K(n_free, n_free);
-        K.setFromTriplets(entries.begin(), entries.end());
-        solver_.compute(K);
-        const double pivot_floor =
-            1e-13 * (solver_.info() == Eigen::Success ? solver_.vectorD().cwiseAbs().maxCoeff() : 0.0);
-        if (solver_.info() != Eigen::Success || (solver_.vectorD().array() <= pivot_floor).any())
+        const Network<Model> rest{rest_model, topology_};
+        const HessianPattern& pat = pattern(rest);
+        typename Model::Corners corners;
+        for (int s = 0; s < Model::kCornerCount; ++s) corners.template segment<2>(2 * s) = topology_.slot_offset[s];
+        typename Model::Hessian h = Model::Hessian::Zero();
+        rest_model.energy(corners, nullptr, &h);
+        const std::vector<double> key(h.data(), h.data() + h.size());
+        if (reference_ && key == reference_key_) return *reference_;
+        reference_ = std::make_unique<CholeskyFactor>(analysis_);
+        ++reference_factorizations_;
+        if (!reference_->factorize(rest.hessian(Vector::Zero(rest.size()), pat, /*exact=*/false)) ||
+            reference_->pivot_ratio() <= 1e-13) {
+            reference_.reset();
             throw std::runtime_error(
                 "linear solve: the stiffness matrix is not positive definite (the topology has a floppy mode "
                 "or the parameters make the network unstable); use method='lbfgs'");
+        }
+        reference_key_ = key;
+        return *reference_;
     }
 
-    // K^-1 r on the free degrees of freedom (pinned ones get 0).
-    Vector solve(const Vector& residual) const {
-        Vector rhs(solver_.rows());
-        for (int i = 0; i < size_; ++i)
-            if (free_index_[i] >= 0) rhs[free_index_[i]] = residual[i];
-        const Vector step = solver_.solve(rhs);
-        if (!step.allFinite()) throw std::runtime_error("linear solve: sparse Cholesky back-substitution failed");
-        Vector out = Vector::Zero(size_);
-        for (int i = 0; i < size_; ++i)
-            if (free_index_[i] >= 0) out[i] = step[free_index_[i]];
+    // Full vector (pinned entries 0) from the free entries and back.
+    Vector to_free(const Vector& full) const {
+        Vector out(pattern_->n_free);
+        for (size_t i = 0; i < pattern_->free_index.size(); ++i)
+            if (pattern_->free_index[i] >= 0) out[pattern_->free_index[i]] = full[i];
+        return out;
+    }
+    Vector to_full(const Vector& free) const {
+        Vector out = Vector::Zero(pattern_->free_index.size());
+        for (size_t i = 0; i < pattern_->free_index.size(); ++i)
+            if (pattern_->free_index[i] >= 0) out[i] = free[pattern_->free_index[i]];
         return out;
     }
 
    private:
-    int size_;
-    std::vector<int> free_index_;
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
+    const Topology& topology_;
+    std::vector<int> pins_;
+    std::unique_ptr<HessianPattern> pattern_;
+    std::shared_ptr<CholeskyAnalysis> analysis_;
+    std::unique_ptr<CholeskyFactor> reference_;
+    std::vector<double> reference_key_;
+    int reference_factorizations_ = 0;
 };
 
-// Linear response about the bulk reference: one Newton step with the reference stiffness,
-// driven by the mismatch forces at the reference. The pins choose one of the solutions that
-// differ by a rigid motion; remove_rigid_motion picks the one without a linearised rotation.
-// The energy reported is the full nonlinear energy of that state, an
-// upper bound on the minimum that is exact to O(eps^4).
+// The cache a call uses: the caller's, or one of its own.
+class CacheHandle {
+   public:
+    CacheHandle(const Topology& t, StiffnessCache* given) {
+        if (given && &given->topology() != &t)
+            throw std::invalid_argument("cache: it was made for another topology");
+        if (!given) own_ = std::make_unique<StiffnessCache>(t);
+        cache_ = given ? given : own_.get();
+    }
+    StiffnessCache& operator*() const { return *cache_; }
+    StiffnessCache* operator->() const { return cache_; }
+
+   private:
+    std::unique_ptr<StiffnessCache> own_;
+    StiffnessCache* cache_;
+};
+
+// K^-1 r with the reference stiffness (pinned entries 0).
 template <class Model>
-Vector linear_response(const Model& model, const Topology& topology, const ReferenceStiffness& stiffness) {
-    const Network<Model> net{model, topology};
-    const Vector x_ref = topology.reference_state();
-    Vector gradient;
-    net.energy(x_ref, &gradient);
-    Vector displacement = -stiffness.solve(gradient);
-    remove_rigid_motion(topology, displacement);
-    return x_ref + displacement;
+Vector reference_solve(const Model& model, StiffnessCache& cache, const Vector& residual) {
+    const CholeskyFactor& k = cache.reference(model);
+    const Vector step = k.solve(cache.to_free(residual));
+    if (!step.allFinite()) throw std::runtime_error("linear solve: sparse Cholesky back-substitution failed");
+    return cache.to_full(step);
 }
 
+// Linear response about the bulk reference: one Newton step with the reference stiffness,
+// driven by the mismatch forces at the reference; the displacement without a linearised rotation.
 template <class Model>
-MinimizeResult relax_linear(const Model& model, const Topology& topology) {
+Vector linear_displacement(const Model& model, const Topology& topology, StiffnessCache& cache) {
     const Network<Model> net{model, topology};
-    MinimizeResult result;
-    result.x = linear_response(model, topology, ReferenceStiffness(model, topology));
     Vector gradient;
-    result.energy = net.energy(result.x, &gradient);
-    result.gradient_norm = gradient.size() ? gradient.cwiseAbs().maxCoeff() : 0.0;
+    net.energy(Vector::Zero(net.size()), &gradient);
+    Vector u = -reference_solve(model, cache, gradient);
+    remove_rigid_motion(topology, u);
+    return u;
+}
+
+inline double max_abs(const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
+
+// The result record at displacement u (positions in x).
+template <class Model>
+MinimizeResult result_at(const Network<Model>& net, const Vector& u) {
+    MinimizeResult r;
+    Vector gradient;
+    r.energy = net.energy(u, &gradient);
+    r.gradient_norm = max_abs(gradient);
+    r.x = state_of(net.topology, u);
+    r.displacement = u;
+    return r;
+}
+
+// The linear response: exact as eps -> 0; its energy is the full nonlinear energy of that
+// state, an upper bound on the minimum exact to O(eps^4).
+template <class Model>
+MinimizeResult relax_linear(const Model& model, const Topology& topology, StiffnessCache* given = nullptr) {
+    CacheHandle cache(topology, given);
+    const Network<Model> net{model, topology};
+    MinimizeResult result = result_at(net, linear_displacement(model, topology, *cache));
     result.converged = std::isfinite(result.energy);
     result.iterations = 1;
     result.status = "linear solve";
     return result;
 }
 
-// The nonlinear minimum by Newton steps with the reference stiffness, factorised once:
-// x <- x - K^-1 grad E(x) from the linear response, halving a step that raises the energy.
-// Each step costs one energy and two triangular sweeps, and the contraction is fast wherever
-// the linearised theory is good (small eps); where it is not (progress per step slower than
-// `stall`), L-BFGS takes over from the best state with the remaining evaluations.
+// Newton from displacement u0. Directions: -K^-1 g with the reference stiffness K (factorised
+// once, a solve per step) while the largest force falls by at least `switch_ratio` per step;
+// after that -H^-1 g with the exact Hessian H (one numeric factorisation per step on the shared
+// analysis; where H is not positive definite, the reference direction). Both are descent
+// directions (K and H positive definite on the free dof); a backtracking line search takes the
+// first of 1, 1/2, 1/4, ... that satisfies Armijo's condition, or, once energy differences are
+// at round-off, that lowers the largest force. Stops at the tolerance, at the evaluation cap,
+// or when no step helps (round-off floor, reported as such).
 template <class Model>
-MinimizeResult relax_newton(const Model& model, const Topology& topology, const MinimizeOptions& options) {
+MinimizeResult newton_from(const Model& model, const Topology& topology, Vector u, const MinimizeOptions& options,
+                           StiffnessCache& cache, int evaluations_before = 0) {
     const Network<Model> net{model, topology};
-    const ReferenceStiffness stiffness(model, topology);
-    constexpr double stall = 0.5;  // required reduction of the largest force per step
-    Vector x = linear_response(model, topology, stiffness);
+    constexpr double switch_ratio = 0.1, armijo = 1e-4;
+    constexpr double roundoff = 64 * std::numeric_limits<double>::epsilon();
     Vector gradient;
-    double energy = net.energy(x, &gradient);
-    double gnorm = gradient.cwiseAbs().maxCoeff();
-    int evaluations = 1;
-    while (gnorm > options.gradient_tolerance && evaluations < options.max_iterations) {
-        const Vector step = stiffness.solve(gradient);
-        double length = 1.0;
+    double energy = net.energy(u, &gradient);
+    double gnorm = max_abs(gradient);
+    int evaluations = evaluations_before + 1, steps = 0, factorizations = 0;
+    bool exact = options.newton_exact_from_start;
+    std::unique_ptr<CholeskyFactor> hessian;
+    std::string stop;
+    while (gnorm > options.gradient_tolerance) {
+        if (evaluations >= options.max_iterations) {
+            stop = "maximum number of iterations reached";
+            break;
+        }
+        Vector direction;
+        if (exact) {
+            const HessianPattern& pat = cache.pattern(net);
+            if (!hessian) hessian = std::make_unique<CholeskyFactor>(cache.analysis());
+            ++factorizations;
+            if (hessian->factorize(net.hessian(u, pat, /*exact=*/true)))
+                direction = -cache.to_full(hessian->solve(cache.to_free(gradient)));
+        }
+        if (direction.size() == 0) direction = -reference_solve(model, cache, gradient);
+        double slope = gradient.dot(direction);
+        if (!(slope < 0) || !direction.allFinite()) {
+            direction = -reference_solve(model, cache, gradient);
+            slope = gradient.dot(direction);
+        }
+        double length = 1.0, trial_energy = 0, trial_gnorm = 0;
         Vector trial, trial_gradient;
-        double trial_energy = 0;
-        for (int halving = 0; halving < 4; ++halving, length *= 0.5) {
-            trial = x - length * step;
+        bool accepted = false;
+        for (int halving = 0; halving < 40 && evaluations < options.max_iterations; ++halving, length *= 0.5) {
+            trial = u + length * direction;
             trial_energy = net.energy(trial, &trial_gradient);
             ++evaluations;
-            if (trial_energy <= energy) break;
+            if (!std::isfinite(trial_energy)) continue;
+            trial_gnorm = max_abs(trial_gradient);
+            const bool decrease = trial_energy <= energy + armijo * length * slope;
+            const bool at_roundoff = std::abs(trial_energy - energy) <= roundoff * std::abs(energy) && trial_gnorm < gnorm;
+            if (decrease || at_roundoff) {
+                accepted = true;
+                break;
+            }
         }
-        const double trial_gnorm = trial_gradient.cwiseAbs().maxCoeff();
-        if (!(trial_energy <= energy) || !(trial_gnorm < stall * gnorm)) {
-            if (trial_energy <= energy) x = trial;  // keep the progress made, then hand over
-            MinimizeOptions rest = options;
-            rest.max_iterations = std::max(1, options.max_iterations - evaluations);
-            MinimizeResult result = relax_lbfgs(model, topology, x, rest);
-            result.iterations += evaluations;
-            result.status = "newton stalled, then L-BFGS: " + result.status;
-            return result;
+        if (!accepted) {
+            stop = evaluations >= options.max_iterations
+                       ? "maximum number of iterations reached"
+                       : "round-off floor: no step lowers the energy or the largest force";
+            break;
         }
-        x = trial;
+        ++steps;
+        if (!exact && trial_gnorm > switch_ratio * gnorm) exact = true;
+        u = std::move(trial);
         energy = trial_energy;
-        gradient = trial_gradient;
+        gradient = std::move(trial_gradient);
         gnorm = trial_gnorm;
     }
     MinimizeResult result;
-    result.x = x;
+    result.x = state_of(topology, u);
+    result.displacement = std::move(u);
     result.energy = energy;
     result.gradient_norm = gnorm;
     result.iterations = evaluations;
+    result.newton_steps = steps;
+    result.factorizations = factorizations;
     result.converged = gnorm <= options.gradient_tolerance;
-    result.status = result.converged ? "gradient tolerance reached (newton)" : "maximum number of iterations reached";
+    result.status = result.converged ? "gradient tolerance reached" : stop;
     return result;
+}
+
+// The nonlinear minimum by Newton steps from the linear response.
+template <class Model>
+MinimizeResult relax_newton(const Model& model, const Topology& topology, const MinimizeOptions& options,
+                            StiffnessCache* given = nullptr) {
+    CacheHandle cache(topology, given);
+    Vector u0 = linear_displacement(model, topology, *cache);
+    MinimizeResult r = newton_from(model, topology, std::move(u0), options, *cache);
+    r.status = "newton: " + r.status;
+    return r;
+}
+
+// NLopt L-BFGS from the state x0 (positions), in displacement variables. A run that ends above
+// the tolerance on NLopt's own criteria (ftol, xtol, roundoff: its line search has run out of
+// digits) is finished by Newton steps; the status says which did the work.
+template <class Model>
+MinimizeResult relax_lbfgs(const Model& model, const Topology& topology, const Vector& x0,
+                           const MinimizeOptions& options, StiffnessCache* given = nullptr) {
+    const Network<Model> net{model, topology};
+    if (x0.size() != net.size())
+        throw std::invalid_argument("x0 has " + std::to_string(x0.size()) + " entries, the network has " +
+                                    std::to_string(net.size()) + " degrees of freedom");
+    const Objective objective = [&net](const Vector& u, Vector& g) { return net.energy(u, &g); };
+    MinimizeResult r = minimize_lbfgs(objective, displacement_of(topology, x0), options);
+    r.lbfgs_evaluations = r.iterations;
+    const bool stopped_short = !r.converged && r.iterations < options.max_iterations &&
+                               r.status != "non-finite energy or gradient" && options.finish_with_newton;
+    if (stopped_short) {
+        const std::string lbfgs_status = r.status;
+        try {
+            CacheHandle cache(topology, given);
+            MinimizeOptions finish = options;
+            finish.newton_exact_from_start = true;
+            MinimizeResult n = newton_from(model, topology, r.x, finish, *cache, r.iterations);
+            n.lbfgs_evaluations = r.lbfgs_evaluations;
+            n.status = "L-BFGS stopped short (" + lbfgs_status + ") after " + std::to_string(r.iterations) +
+                       " evaluations, then newton: " + n.status;
+            if (n.energy <= r.energy || n.converged) return n;
+        } catch (const std::runtime_error&) {
+            r.status += " (no Newton finish: the stiffness is not positive definite)";
+        }
+    }
+    r.displacement = r.x;
+    r.x = state_of(topology, r.displacement);
+    return r;
 }
 
 }  // namespace pyfrustrate

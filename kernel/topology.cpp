@@ -150,6 +150,13 @@ Topology make_topology(const std::vector<LatticeVector>& input_sites, Periodicit
         t.image.push_back(images);
     }
 
+    for (int slot = 0; slot < kCorners; ++slot) {
+        const CornerKey key = corner_of({0, 0}, slot);
+        t.slot_offset[slot] = site_position({key.i, key.j}) + Vec2(0.0, (key.color ? 1.0 : -1.0) / kSqrt3);
+    }
+    for (const auto& images : t.image)
+        for (const auto& n : images) t.max_image = std::max({t.max_image, std::abs(n[0]), std::abs(n[1])});
+
     if (curved) {
         for (const auto& r : t.reference) t.pivot += r;
         t.pivot /= t.n_corners();

@@ -45,6 +45,12 @@ struct Topology {
     // so that its gradient is commensurate with the forces on corners.
     Vec2 pivot = Vec2::Zero();
     double bend_scale = 1.0;
+    // Bulk-reference position of each corner slot relative to its particle's site, the same
+    // for every particle. The network evaluates a particle in its own frame, slot_offset plus
+    // the corners' displacements, so that no coordinate of the size of the aggregate enters
+    // the forces (they would lose digits as the aggregate grows; see network.hpp).
+    std::array<Vec2, kCorners> slot_offset{};
+    int max_image = 0;                        // largest |image index| of any slot
 
     int n_particles() const { return static_cast<int>(sites.size()); }
     int n_corners() const { return static_cast<int>(reference.size()); }

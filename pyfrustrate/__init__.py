@@ -10,10 +10,10 @@ toy model), ``anneal`` (Monte Carlo of topologies), ``random_particles`` and ``R
 """
 from . import chain, continuum, random_particles, topology
 from .particles import Hexagon
-from .relaxation import ConvergenceWarning, Relaxation, relax
+from .relaxation import ConvergenceWarning, Relaxation, StiffnessCache, relax
 from .montecarlo import AnnealResult, anneal
 from .random_particles import RandomHexagon
 
 __version__ = "0.1.0"
-__all__ = ["chain", "continuum", "topology", "random_particles", "Hexagon", "RandomHexagon", "relax", "Relaxation",
+__all__ = ["chain", "continuum", "topology", "random_particles", "Hexagon", "RandomHexagon", "relax", "Relaxation", "StiffnessCache",
            "ConvergenceWarning", "anneal", "AnnealResult"]

@@ -1,14 +1,23 @@
 """Relaxation of an aggregate at fixed topology (main text Eq. 7, inner minimisation).
 
-Two methods, a speed/accuracy knob:
+Methods, a speed/accuracy knob:
 
-``"lbfgs"``   NLopt's L-BFGS on the full nonlinear energy, to a gradient tolerance.
-``"linear"``  one sparse Cholesky (LDL^T) solve of the quadratic expansion about the bulk
-              reference, with the stiffness of the particles at eps = 0: exact as eps -> 0,
-              error O(eps^2) relative in the energy, and far cheaper.
-``"newton"``  the nonlinear minimum to the same tolerance as L-BFGS, by Newton steps that
-              reuse that one factorisation (a few steps at small eps); L-BFGS takes over where
-              they stall. Usually the fastest exact method.
+``"auto"``    (default) the fastest exact method for the scene, chosen by measurement: ``"newton"``
+              (see ``AUTO_METHOD`` and benchmarks/README.md).
+``"newton"``  the nonlinear minimum to ``tol``, down to round-off: Newton steps with the
+              factorised eps = 0 stiffness while they contract fast, then with the exact Hessian
+              (the period map's curvature included), each with a line search that guarantees
+              descent. CHOLMOD's supernodal Cholesky; its symbolic analysis is made once per
+              topology (``StiffnessCache``).
+``"lbfgs"``   NLopt's L-BFGS on the full nonlinear energy, to a gradient tolerance; when NLopt
+              stops short of it (ftol, xtol, roundoff) Newton steps finish the job, and the
+              result's ``status`` says which did the work.
+``"linear"``  one sparse Cholesky solve of the quadratic expansion about the bulk reference, with
+              the stiffness of the particles at eps = 0: exact as eps -> 0, error O(eps^2)
+              relative in the energy, and cheaper still.
+
+All work on the displacement from the bulk reference (``Relaxation.displacement``): a particle
+is evaluated in its own frame, so forces keep their digits however large the aggregate.
 """
 from __future__ import annotations
 
@@ -20,7 +29,36 @@ import numpy as np
 from . import _kernel
 from .topology import Topology
 
-METHODS = ("lbfgs", "linear", "newton")
+METHODS = ("auto", "lbfgs", "linear", "newton")
+#: What ``method="auto"`` runs: Newton was the fastest exact method on every scene measured
+#: (benchmarks/bench_relax.py: disks R = 10-100 and fibres of width 30 and 300, tol 1e-5 to 1e-10).
+AUTO_METHOD = "newton"
+
+
+class StiffnessCache:
+    """What repeated relaxations of one topology reuse: the sparsity pattern of its Hessian,
+    CHOLMOD's symbolic analysis (fill-reducing ordering, supernodes) and the factorised eps = 0
+    stiffness of the last particle stiffness it served (refactorised, numerically only, when
+    another particle comes). The caller owns it; pass it as ``relax(..., cache=...)``. Not to be
+    shared between threads.
+    """
+
+    def __init__(self, topology: Topology):
+        self.topology = topology
+        self._kernel = _kernel.StiffnessCache(topology.kernel)
+
+    @property
+    def reference_factorizations(self) -> int:
+        """How many times the eps = 0 stiffness was factorised."""
+        return self._kernel.reference_factorizations
+
+    @property
+    def factor_nonzeros(self) -> int:
+        """Nonzeros of the Cholesky factor (-1 before the first solve)."""
+        return self._kernel.factor_nonzeros
+
+    def __repr__(self):
+        return f"StiffnessCache({self.topology.label}, factorised {self.reference_factorizations}x)"
 
 
 class ConvergenceWarning(RuntimeWarning):
@@ -49,8 +87,14 @@ class Relaxation:
     gradient_norm : float
         Largest gradient component of the full energy at ``state``.
     status : str
-        The minimiser's last word.
+        The minimisers' last word: which did the work and why it stopped.
     method : str
+        The method run (``"auto"`` resolved).
+    displacement : ndarray
+        ``state`` minus the bulk reference state, exact to round-off (``state`` rounds it to
+        the size of the coordinates).
+    newton_steps, factorizations, lbfgs_evaluations : int
+        Newton steps taken, exact Hessians factorised, evaluations spent in L-BFGS.
     """
 
     energy: float
@@ -63,6 +107,10 @@ class Relaxation:
     status: str
     method: str
     n_corners: int
+    displacement: np.ndarray
+    newton_steps: int = 0
+    factorizations: int = 0
+    lbfgs_evaluations: int = 0
 
     @property
     def energy_per_particle(self) -> float:
@@ -79,51 +127,65 @@ class Relaxation:
         return self.state[2 * self.n_corners:]
 
 
-def relax(particle, topology: Topology, method: str = "lbfgs", tol: float = 1e-5, x0=None,
-          max_iter: int = 500_000, memory: int = 10) -> Relaxation:
+def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5, x0=None,
+          max_iter: int = 500_000, memory: int = 10, cache: StiffnessCache | None = None) -> Relaxation:
     """Minimise the deformation energy of ``topology`` made of ``particle``s.
 
     Parameters
     ----------
     particle : Hexagon or RandomHexagon
     topology : Topology
-    method : {"lbfgs", "linear", "newton"}
+    method : {"auto", "newton", "lbfgs", "linear"}
+        ``"auto"`` runs the fastest exact method (``AUTO_METHOD``); see the module docstring.
     tol : float
-        L-BFGS stops when the largest gradient component is below ``tol * particle.force_scale``
-        (forces are of order ``eps * max(k, |k_area|)``).
+        Stop when the largest gradient component is below ``tol * particle.force_scale``
+        (forces are of order ``eps * max(k, |k_area|)``). Newton reaches 1e-12 where round-off
+        allows; a run stopped by round-off says so in ``status``.
     x0 : None, "linear" or array
-        L-BFGS start: the bulk reference (None), the linear solution ("linear", usually the
-        fastest route to the nonlinear minimum) or a given state (warm start, same layout as
-        ``Relaxation.state``).
+        L-BFGS start: the bulk reference (None), the linear solution ("linear") or a given
+        state (warm start, same layout as ``Relaxation.state``). Newton always starts from the
+        linear solution.
     max_iter : int
         Cap on energy and gradient evaluations.
+    cache : StiffnessCache, optional
+        Reuse the symbolic analysis and reference factorisation of earlier relaxations of the
+        same topology (one is made and dropped otherwise).
 
     A run that stops short of ``tol`` returns ``converged=False`` and emits a
-    ``ConvergenceWarning``; a non-finite energy raises ``RuntimeError``.
+    ``ConvergenceWarning`` with the reason; a non-finite energy raises ``RuntimeError``.
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     if not (tol > 0):
         raise ValueError(f"tol must be positive, got {tol!r}")
+    if cache is not None:
+        if not isinstance(cache, StiffnessCache):
+            raise ValueError(f"cache must be a StiffnessCache, got {type(cache).__name__}")
+        if cache.topology is not topology:
+            raise ValueError(f"cache: it was made for {cache.topology.label}, not for {topology.label}")
+    if method == "auto":
+        method = "lbfgs" if x0 is not None else AUTO_METHOD
     model = particle._kernel_model
+    kcache = cache._kernel if cache is not None else None
+    force_tol = tol * particle.force_scale
     if method == "linear":
-        out = _kernel.relax_linear(model, topology.kernel)
+        out = _kernel.relax_linear(model, topology.kernel, kcache)
     elif method == "newton":
         if x0 is not None:
             raise ValueError("x0: method='newton' always starts from the linear solution")
-        out = _kernel.relax_newton(model, topology.kernel, tol * particle.force_scale, int(max_iter))
+        out = _kernel.relax_newton(model, topology.kernel, force_tol, int(max_iter), kcache)
     else:
         if x0 is None:
             start = topology.reference_state()
         elif isinstance(x0, str):
             if x0 != "linear":
                 raise ValueError(f"x0 must be None, 'linear' or an array, got {x0!r}")
-            start = np.asarray(_kernel.relax_linear(model, topology.kernel)["x"])
+            start = np.asarray(_kernel.relax_linear(model, topology.kernel, kcache)["x"])
         else:
             start = np.asarray(x0, dtype=float).ravel()
             if start.shape != topology.reference_state().shape:
                 raise ValueError(f"x0 has {start.size} entries, the topology needs {topology.reference_state().size}")
-        out = _kernel.relax_lbfgs(model, topology.kernel, start, tol * particle.force_scale, int(max_iter), int(memory))
+        out = _kernel.relax_lbfgs(model, topology.kernel, start, force_tol, int(max_iter), int(memory), kcache)
     if not np.isfinite(out["energy"]):
         raise RuntimeError(f"relax: the energy became non-finite ({out['status']})")
     if out["energy"] < 0:
@@ -133,11 +195,13 @@ def relax(particle, topology: Topology, method: str = "lbfgs", tol: float = 1e-5
                            f"{out['energy']:.3g} < 0, {particle!r}); try x0='linear' or a larger tol")
     if not out["converged"]:
         warnings.warn(f"relax({topology.label}, method={method!r}) did not converge: {out['status']}, "
-                      f"max gradient {out['gradient_norm']:.3g} after {out['iterations']} evaluations",
+                      f"max gradient {out['gradient_norm']:.3g} = {out['gradient_norm'] / particle.force_scale:.2g} "
+                      f"force_scale (tol {tol:g}) after {out['iterations']} evaluations",
                       ConvergenceWarning, stacklevel=2)
     return Relaxation(float(out["energy"]), topology.n_particles, topology.n_bonds, np.asarray(out["x"]),
                       bool(out["converged"]), int(out["iterations"]), float(out["gradient_norm"]), out["status"],
-                      method, topology.n_corners)
+                      method, topology.n_corners, np.asarray(out["displacement"]), int(out["newton_steps"]),
+                      int(out["factorizations"]), int(out["lbfgs_evaluations"]))
 
 
 def energy(particle, topology: Topology, state) -> tuple[float, np.ndarray]:

@@ -5,7 +5,10 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 VENV="${PYFRUSTRATE_VENV:-$ROOT/.venv}"
-DEBIAN_PACKAGES=(g++ libeigen3-dev libnlopt-cxx-dev python3-venv)
+# libsuitesparse-dev: CHOLMOD, the supernodal sparse Cholesky of the Newton and linear solves;
+# libopenblas0-serial: an optimised single-threaded BLAS for its dense supernodes (the reference
+# BLAS that libsuitesparse-dev pulls in alone makes the supernodal factorisation no faster).
+DEBIAN_PACKAGES=(g++ libeigen3-dev libnlopt-cxx-dev libsuitesparse-dev libopenblas0-serial python3-venv)
 
 missing=()
 for pkg in "${DEBIAN_PACKAGES[@]}"; do
@@ -36,7 +39,9 @@ if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$hash" ]; then
   mapfile -t build_requires < <("$VENV/bin/python" -c 'import sys, tomllib
 print("\n".join(tomllib.load(open(sys.argv[1], "rb"))["build-system"]["requires"]))' "$ROOT/pyproject.toml")
   ((${#build_requires[@]})) || { echo "[setup] no build requirements read from pyproject.toml" >&2; exit 1; }
-  "$VENV/bin/python" -m pip install -q "${build_requires[@]}" cmake ninja
+  # setuptools and wheel: without build isolation, dependencies published only as source
+  # (snakemake's connection_pool) are built with the venv's own setuptools, which needs both.
+  "$VENV/bin/python" -m pip install -q "${build_requires[@]}" cmake ninja setuptools wheel
   "$VENV/bin/python" -m pip install -q --no-build-isolation "$ROOT[test,workflow]"
   echo "$hash" > "$stamp"
 fi

@@ -700,10 +700,11 @@ def test_energy_of_a_wrong_state_raises_value_error():
         network_energy(pyfrustrate.Hexagon(), top, np.full(top.reference_state().size, np.inf))
 
 
-def test_non_convergence_warns_and_is_reported():
+@pytest.mark.parametrize("method", ["lbfgs", "newton"])
+def test_non_convergence_warns_and_is_reported(method):
     particle = pyfrustrate.Hexagon.from_continuum(5.0, 0.5, eps=0.01)
-    with pytest.warns(pyfrustrate.ConvergenceWarning):
-        r = pyfrustrate.relax(particle, T.disk(4), max_iter=3)
+    with pytest.warns(pyfrustrate.ConvergenceWarning, match="maximum number of iterations"):
+        r = pyfrustrate.relax(particle, T.disk(4), method=method, tol=1e-12, max_iter=1 if method == "newton" else 3)
     assert r.converged is False
     assert r.gradient_norm > 1e-5 * particle.k * particle.eps
     assert np.isfinite(r.energy) and np.all(np.isfinite(r.state))

@@ -1,0 +1,64 @@
+// Sparse Cholesky factorisation through CHOLMOD (SuiteSparse): the symbolic analysis (fill-
+// reducing ordering, elimination tree, supernodes) is done once per sparsity pattern and shared
+// by every numeric factorisation of matrices with that pattern. Large networks get CHOLMOD's
+// supernodal LL^T (dense BLAS on the supernodes), small ones its simplicial factorisation:
+// CHOLMOD chooses from the flop count of the analysis.
+//
+// Not thread-safe: factors sharing one analysis share its CHOLMOD workspace.
+#pragma once
+
+#include <Eigen/Dense>
+#include <memory>
+#include <vector>
+
+namespace pyfrustrate {
+
+class CholeskyAnalysis;
+
+// One numeric factorisation on a shared analysis.
+class CholeskyFactor {
+   public:
+    explicit CholeskyFactor(std::shared_ptr<CholeskyAnalysis> analysis);
+    ~CholeskyFactor();
+    CholeskyFactor(const CholeskyFactor&) = delete;
+    CholeskyFactor& operator=(const CholeskyFactor&) = delete;
+
+    // Factorises the matrix with these values on the analysis' pattern (upper triangle, CSC).
+    // Returns false if it is not positive definite (the factor is then unusable until the next
+    // successful call).
+    bool factorize(const std::vector<double>& values);
+    bool ok() const { return ok_; }
+    // A^-1 b.
+    Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+    int size() const;
+    // Smallest over largest pivot of the last factorisation (the D of LDL^T, or diag(L)^2):
+    // near round-off, the matrix is singular in all but name (a floppy mode).
+    double pivot_ratio() const;
+
+   private:
+    std::shared_ptr<CholeskyAnalysis> analysis_;
+    void* factor_ = nullptr;  // cholmod_factor*
+    bool ok_ = false;
+};
+
+// The symbolic analysis of one pattern: upper triangle of a symmetric n x n matrix in
+// compressed columns (column_start of size n + 1, row indices sorted within each column).
+class CholeskyAnalysis {
+   public:
+    CholeskyAnalysis(int n, const std::vector<int>& column_start, const std::vector<int>& row);
+    ~CholeskyAnalysis();
+    CholeskyAnalysis(const CholeskyAnalysis&) = delete;
+    CholeskyAnalysis& operator=(const CholeskyAnalysis&) = delete;
+    int size() const { return n_; }
+    long factor_nonzeros() const;  // nnz(L) predicted by the analysis
+    bool supernodal() const;
+
+   private:
+    friend class CholeskyFactor;
+    int n_;
+    void* common_ = nullptr;    // cholmod_common*
+    void* matrix_ = nullptr;    // cholmod_sparse* (pattern; values written before each factorisation)
+    void* symbolic_ = nullptr;  // cholmod_factor*
+};
+
+}  // namespace pyfrustrate
