@@ -110,20 +110,24 @@ void export_network_functions(pybind11::module_& m) {
         "dict (x, displacement, energy, converged, iterations, gradient_norm, status, newton_steps, ...).");
     m.def(
         "relax_newton",
-        [](const Model& model, const Topology& t, double tol, int max_iter, StiffnessCache* cache, bool exact) {
+        [](const Model& model, const Topology& t, double tol, int max_iter, StiffnessCache* cache, bool exact,
+           double switch_ratio) {
             MinimizeResult r;
             {
                 py::gil_scoped_release release;
                 MinimizeOptions o = make_options(tol, max_iter, 10, model.step_scale());
                 o.newton_exact_from_start = exact;
+                if (!(switch_ratio > 0 && switch_ratio <= 1)) throw std::invalid_argument("switch_ratio must lie in (0, 1]");
+                o.newton_switch_ratio = switch_ratio;
                 r = relax_newton(model, t, o, cache);
             }
             return to_dict(r);
         },
         py::arg("model"), py::arg("topology"), py::arg("tol"), py::arg("max_iter"), py::arg("cache") = nullptr,
-        py::arg("exact") = false,
-        "Newton steps from the linear solution until max |gradient| <= tol: reference stiffness while it "
-        "contracts fast, then the exact Hessian (exact=True: from the start); returns a dict like relax_lbfgs.");
+        py::arg("exact") = false, py::arg("switch_ratio") = 0.9,
+        "Newton steps from the linear solution until max |gradient| <= tol: reference stiffness while that is "
+        "cheaper, then the exact Hessian (exact=True: from the start; switch_ratio: the slowest contraction of "
+        "the force per reference step tolerated whatever the costs); returns a dict like relax_lbfgs.");
     m.def(
         "relax_linear",
         [](const Model& model, const Topology& t, StiffnessCache* cache) {

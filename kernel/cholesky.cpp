@@ -58,6 +58,8 @@ CholeskyAnalysis::~CholeskyAnalysis() {
 
 long CholeskyAnalysis::factor_nonzeros() const { return static_cast<long>(common_of(common_)->lnz); }
 
+double CholeskyAnalysis::factor_flops() const { return common_of(common_)->fl; }
+
 bool CholeskyAnalysis::supernodal() const { return static_cast<cholmod_factor*>(symbolic_)->is_super; }
 
 CholeskyFactor::CholeskyFactor(std::shared_ptr<CholeskyAnalysis> analysis) : analysis_(std::move(analysis)) {

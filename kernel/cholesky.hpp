@@ -51,6 +51,7 @@ class CholeskyAnalysis {
     CholeskyAnalysis& operator=(const CholeskyAnalysis&) = delete;
     int size() const { return n_; }
     long factor_nonzeros() const;  // nnz(L) predicted by the analysis
+    double factor_flops() const;   // floating-point operations of one numeric factorisation
     bool supernodal() const;
 
    private:

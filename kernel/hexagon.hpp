@@ -29,6 +29,12 @@ struct HexagonModel {
             throw std::invalid_argument("k_area must be finite and exceed -sqrt(3) k (unstable sheet otherwise), got " +
                                         std::to_string(k_area));
         if (!(eps >= 0 && eps < 1)) throw std::invalid_argument("eps must lie in [0, 1)");
+        yellow_ = 1 + eps;
+        red_ = 1 - eps;
+        // Hexagon side at rest: corners at radii yellow/sqrt3 and red/sqrt3, 60 degrees apart.
+        side_ = std::sqrt((yellow_ * yellow_ + red_ * red_ - yellow_ * red_) / 3.0);
+        yellow_area_ = std::sqrt(3.0) / 4.0 * yellow_ * yellow_;
+        red_area_ = std::sqrt(3.0) / 4.0 * red_ * red_;
     }
 
     // Typical corner displacement of a relaxation: the mismatch (at least a small floor).
@@ -43,20 +49,17 @@ struct HexagonModel {
         double total() const { return triangles + connecting + area; }
     };
 
+    // The energy by terms, with gradient and Hessian on request (elements.hpp).
     Terms terms(const Corners& x, Corners* grad = nullptr, Hessian* hess = nullptr) const {
-        const double yellow = 1 + eps, red = 1 - eps;
-        // Hexagon side at rest: corners at radii yellow/sqrt3 and red/sqrt3, 60 degrees apart.
-        const double side = std::sqrt((yellow * yellow + red * red - yellow * red) / 3.0);
-        const double a0 = std::sqrt(3.0) / 4.0;
         Terms t;
         for (int m = 0; m < 3; ++m) {
-            t.triangles += spring<6>(x, 2 * m + 1, (2 * m + 3) % 6, k, yellow, grad, hess);
-            t.triangles += spring<6>(x, 2 * m, (2 * m + 2) % 6, k, red, grad, hess);
+            t.triangles += spring<6>(x, 2 * m + 1, (2 * m + 3) % 6, k, yellow_, grad, hess);
+            t.triangles += spring<6>(x, 2 * m, (2 * m + 2) % 6, k, red_, grad, hess);
         }
-        for (int s = 0; s < 6; ++s) t.connecting += spring<6>(x, s, (s + 1) % 6, kc, side, grad, hess);
+        for (int s = 0; s < 6; ++s) t.connecting += spring<6>(x, s, (s + 1) % 6, kc, side_, grad, hess);
         if (k_area != 0) {
-            t.area += triangle_area<6>(x, 1, 3, 5, k_area, a0 * yellow * yellow, grad, hess);
-            t.area += triangle_area<6>(x, 0, 2, 4, k_area, a0 * red * red, grad, hess);
+            t.area += triangle_area<6>(x, 1, 3, 5, k_area, yellow_area_, grad, hess);
+            t.area += triangle_area<6>(x, 0, 2, 4, k_area, red_area_, grad, hess);
         }
         return t;
     }
@@ -64,6 +67,10 @@ struct HexagonModel {
     double energy(const Corners& x, Corners* grad, Hessian* hess = nullptr) const {
         return terms(x, grad, hess).total();
     }
+
+   private:
+    // Rest shape, computed once per particle model rather than once per evaluation.
+    double yellow_ = 1, red_ = 1, side_ = 1, yellow_area_ = 0, red_area_ = 0;
 };
 
 }  // namespace pyfrustrate

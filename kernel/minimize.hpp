@@ -27,6 +27,10 @@ struct MinimizeOptions {
     bool finish_with_newton = true;
     // relax_newton: exact Hessian from the first step (else the reference stiffness first).
     bool newton_exact_from_start = false;
+    // relax_newton: steps with the reference stiffness go on while they are cheaper than exact
+    // Newton (relax.hpp); one that divides the largest force by less than 1 / newton_switch_ratio
+    // hands over to the exact Hessian whatever the costs.
+    double newton_switch_ratio = 0.9;
 };
 
 struct MinimizeResult {

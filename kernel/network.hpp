@@ -211,6 +211,25 @@ struct Network {
         }
         double* g = gradient->data();
         Corners local_gradient;
+        if (topology.periodicity == Periodicity::None) {
+            // A finite aggregate: no period map, corners gathered and forces scattered directly.
+            const double* ud = u.data();
+            Corners c;
+            for (int p = 0; p < np; ++p) {
+                const auto& ids = topology.corner[p];
+                for (int s = 0; s < C; ++s) {
+                    c[2 * s] = topology.slot_offset[s][0] + ud[2 * ids[s]];
+                    c[2 * s + 1] = topology.slot_offset[s][1] + ud[2 * ids[s] + 1];
+                }
+                local_gradient.setZero();
+                total += model.energy(c, &local_gradient);
+                for (int s = 0; s < C; ++s) {
+                    g[2 * ids[s]] += local_gradient[2 * s];
+                    g[2 * ids[s] + 1] += local_gradient[2 * s + 1];
+                }
+            }
+            return total;
+        }
         Mat2 d_corner;
         PeriodJacobian d_period;
         const int nc2 = n_corner_dof(), npp = topology.n_period_parameters();

@@ -223,18 +223,26 @@ MinimizeResult relax_linear(const Model& model, const Topology& topology, Stiffn
 }
 
 // Newton from displacement u0. Directions: -K^-1 g with the reference stiffness K (factorised
-// once, a solve per step) while the largest force falls by at least `switch_ratio` per step;
-// after that -H^-1 g with the exact Hessian H (one numeric factorisation per step on the shared
-// analysis; where H is not positive definite, the reference direction). Both are descent
-// directions (K and H positive definite on the free dof); a backtracking line search takes the
-// first of 1, 1/2, 1/4, ... that satisfies Armijo's condition, or, once energy differences are
-// at round-off, that lowers the largest force. Stops at the tolerance, at the evaluation cap,
-// or when no step helps (round-off floor, reported as such).
+// once, a solve per step), or -H^-1 g with the exact Hessian H (one numeric factorisation per
+// step on the shared analysis; where H is not positive definite, the reference direction). The
+// reference steps contract the force linearly (by a ratio that grows with eps and near
+// instabilities), exact ones quadratically; after each reference step the cheaper way to the
+// tolerance is taken: the remaining reference steps at the ratio just measured, against about
+// three exact steps, each a factorisation. Costs are counted in floating-point operations from
+// CHOLMOD's analysis (a factorisation: its flop count; a reference step: two triangular sweeps,
+// 4 nnz(L), and an evaluation, ~100 per degree of freedom), not in seconds, so that the path,
+// and hence the result to the last digit, does not depend on the machine's load. Both
+// directions descend (K and H positive definite on the free dof); a backtracking line search
+// takes the first of 1, 1/2, 1/4, ... that satisfies Armijo's condition, or, once energy
+// differences are at round-off, that lowers the largest force. Stops at the tolerance, at the
+// evaluation cap, or when no step helps (round-off floor, reported as such).
 template <class Model>
 MinimizeResult newton_from(const Model& model, const Topology& topology, Vector u, const MinimizeOptions& options,
                            StiffnessCache& cache, int evaluations_before = 0) {
     const Network<Model> net{model, topology};
-    constexpr double switch_ratio = 0.1, armijo = 1e-4;
+    constexpr double armijo = 1e-4;
+    const double switch_ratio = options.newton_switch_ratio;
+    (void)cache.reference(model);  // the analysis and reference factor every branch below may use
     constexpr double roundoff = 64 * std::numeric_limits<double>::epsilon();
     Vector gradient;
     double energy = net.energy(u, &gradient);
@@ -285,7 +293,18 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
             break;
         }
         ++steps;
-        if (!exact && trial_gnorm > switch_ratio * gnorm) exact = true;
+        if (!exact && trial_gnorm > options.gradient_tolerance) {
+            const double ratio = trial_gnorm / gnorm;
+            if (ratio > switch_ratio) {
+                exact = true;
+            } else {
+                const CholeskyAnalysis& a = *cache.analysis();
+                const double step_cost = 4.0 * a.factor_nonzeros() + 100.0 * a.size();
+                const double factorization_cost = a.factor_flops() / step_cost;
+                const double remaining = std::log(options.gradient_tolerance / trial_gnorm) / std::log(ratio);
+                exact = remaining > 3 * (factorization_cost + 1);
+            }
+        }
         u = std::move(trial);
         energy = trial_energy;
         gradient = std::move(trial_gradient);
@@ -334,9 +353,7 @@ MinimizeResult relax_lbfgs(const Model& model, const Topology& topology, const V
         const std::string lbfgs_status = r.status;
         try {
             CacheHandle cache(topology, given);
-            MinimizeOptions finish = options;
-            finish.newton_exact_from_start = true;
-            MinimizeResult n = newton_from(model, topology, r.x, finish, *cache, r.iterations);
+            MinimizeResult n = newton_from(model, topology, r.x, options, *cache, r.iterations);
             n.lbfgs_evaluations = r.lbfgs_evaluations;
             n.status = "L-BFGS stopped short (" + lbfgs_status + ") after " + std::to_string(r.iterations) +
                        " evaluations, then newton: " + n.status;
