@@ -31,6 +31,8 @@ struct MinimizeOptions {
     // Newton (relax.hpp); one that divides the largest force by less than 1 / newton_switch_ratio
     // hands over to the exact Hessian whatever the costs.
     double newton_switch_ratio = 0.9;
+    // relax_newton: largest displacement of a corner in one step (lattice units), a trust region.
+    double newton_max_step = 0.25;
 };
 
 struct MinimizeResult {

@@ -233,8 +233,8 @@ MinimizeResult relax_linear(const Model& model, const Topology& topology, Stiffn
 // 4 nnz(L), and an evaluation, ~100 per degree of freedom), not in seconds, so that the path,
 // and hence the result to the last digit, does not depend on the machine's load. Both
 // directions descend (K and H positive definite on the free dof); a backtracking line search
-// takes the first of 1, 1/2, 1/4, ... that satisfies Armijo's condition, or, once energy
-// differences are at round-off, that lowers the largest force. Stops at the tolerance, at the
+// takes the first of 1, 1/2, 1/4, ... that satisfies Armijo's condition, or, once the predicted
+// decrease is below 1e-10 of the energy, that lowers the largest force. Stops at the tolerance, at the
 // evaluation cap, or when no step helps (round-off floor, reported as such).
 template <class Model>
 MinimizeResult newton_from(const Model& model, const Topology& topology, Vector u, const MinimizeOptions& options,
@@ -243,33 +243,62 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
     constexpr double armijo = 1e-4;
     const double switch_ratio = options.newton_switch_ratio;
     (void)cache.reference(model);  // the analysis and reference factor every branch below may use
-    constexpr double roundoff = 64 * std::numeric_limits<double>::epsilon();
+    constexpr double roundoff = 1e-10;  // relative resolution of the energy assumed near the minimum
     Vector gradient;
     double energy = net.energy(u, &gradient);
     double gnorm = max_abs(gradient);
     int evaluations = evaluations_before + 1, steps = 0, factorizations = 0;
     bool exact = options.newton_exact_from_start;
     std::unique_ptr<CholeskyFactor> hessian;
+    double shift = 0;  // Levenberg-Marquardt damping of the exact Hessian
+    double best_gnorm = gnorm;
+    double runaway = 1.0;  // the aggregate's size: largest distance of a corner from corner 0, or a period
+    for (const Vec2& r : topology.reference) runaway = std::max(runaway, (r - topology.reference[0]).norm());
+    if (topology.n_period_parameters()) runaway += topology.reference_period_parameters().head<2>().norm();
+    int stalled = 0;
     std::string stop;
     while (gnorm > options.gradient_tolerance) {
+        if (max_abs(u) > runaway) {
+            // A corner has moved by more than the aggregate's size: the network is not relaxing
+            // but running away (k_area < 0 near the stability limit is unbounded below).
+            stop = "runaway: a corner moved farther than the aggregate's size (the network is unstable)";
+            break;
+        }
         if (evaluations >= options.max_iterations) {
             stop = "maximum number of iterations reached";
             break;
         }
         Vector direction;
         if (exact) {
+            // Where H is not positive definite (far from the minimum, or near an instability),
+            // H + shift * diag(H): Levenberg-Marquardt's damping, raised tenfold until the
+            // factorisation succeeds and relaxed a hundredfold after each step taken.
             const HessianPattern& pat = cache.pattern(net);
             if (!hessian) hessian = std::make_unique<CholeskyFactor>(cache.analysis());
-            ++factorizations;
-            if (hessian->factorize(net.hessian(u, pat, /*exact=*/true)))
-                direction = -cache.to_full(hessian->solve(cache.to_free(gradient)));
+            const std::vector<double> h = net.hessian(u, pat, /*exact=*/true);
+            std::vector<double> damped = h;
+            for (int attempt = 0; attempt < 30; ++attempt) {
+                if (shift > 0)
+                    for (int j = 0; j < pat.n_free; ++j) {
+                        const int diagonal = pat.column_start[j + 1] - 1;  // rows sorted: last is j
+                        damped[diagonal] = h[diagonal] * (1 + shift);
+                    }
+                ++factorizations;
+                if (hessian->factorize(damped)) {
+                    direction = -cache.to_full(hessian->solve(cache.to_free(gradient)));
+                    break;
+                }
+                shift = shift > 0 ? 10 * shift : 1e-4;
+            }
         }
         if (direction.size() == 0) direction = -reference_solve(model, cache, gradient);
-        double slope = gradient.dot(direction);
-        if (!(slope < 0) || !direction.allFinite()) {
-            direction = -reference_solve(model, cache, gradient);
-            slope = gradient.dot(direction);
-        }
+        if (!(gradient.dot(direction) < 0) || !direction.allFinite()) direction = -reference_solve(model, cache, gradient);
+        // Trust region: no corner moves by more than max_step (lattice units) in one step. Newton
+        // steps near the minimum are far shorter; a longer one comes from a model far from
+        // quadratic and could leave the physical basin (k_area < 0 is unbounded below).
+        const double longest = max_abs(direction);
+        if (longest > options.newton_max_step) direction *= options.newton_max_step / longest;
+        const double slope = gradient.dot(direction);
         double length = 1.0, trial_energy = 0, trial_gnorm = 0;
         Vector trial, trial_gradient;
         bool accepted = false;
@@ -280,7 +309,10 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
             if (!std::isfinite(trial_energy)) continue;
             trial_gnorm = max_abs(trial_gradient);
             const bool decrease = trial_energy <= energy + armijo * length * slope;
-            const bool at_roundoff = std::abs(trial_energy - energy) <= roundoff * std::abs(energy) && trial_gnorm < gnorm;
+            // Near the minimum the predicted decrease falls below what the energy resolves (a sum
+            // of terms that may cancel: with k_area < 0, springs against areas); the largest force
+            // is then the merit function.
+            const bool at_roundoff = -slope * length <= roundoff * std::abs(energy) && trial_gnorm < gnorm;
             if (decrease || at_roundoff) {
                 accepted = true;
                 break;
@@ -293,6 +325,20 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
             break;
         }
         ++steps;
+        shift = shift > 1e-6 ? shift / 100 : 0;
+        // Round-off: the force no longer falls (its noise is reached). Give up after eight exact
+        // steps that neither lowered the energy beyond round-off nor the best force tenfold.
+        const bool energy_still_falls = energy - trial_energy > 1e-13 * std::abs(energy);
+        if (trial_gnorm < 0.1 * best_gnorm || energy_still_falls) {
+            best_gnorm = std::min(best_gnorm, trial_gnorm);
+            stalled = 0;
+        } else if (++stalled >= 8 && exact) {
+            u = std::move(trial);
+            energy = trial_energy;
+            gnorm = trial_gnorm;
+            stop = "round-off floor: the largest force stopped falling (its noise is reached)";
+            break;
+        }
         if (!exact && trial_gnorm > options.gradient_tolerance) {
             const double ratio = trial_gnorm / gnorm;
             if (ratio > switch_ratio) {
