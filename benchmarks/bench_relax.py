@@ -1,34 +1,33 @@
-"""Kernel vs numpy/scipy: one energy+gradient evaluation and a full relaxation of a hexagonal disk.
+"""Kernel vs numpy/scipy: relaxations of disks and periodic fibres at the same final accuracy.
 
-Particle: ``Hexagon.from_continuum(ell=5, nu=0.5, eps=0.01)``; topology ``disk(R)`` from the
-bulk reference state. Every L-BFGS stops on the same criterion, ``max|grad| <= 1e-5 * F`` with
-``F = particle.force_scale = eps * max(k, |k_area|, kc)`` (= k * eps = 0.01 for this particle;
-the kernel's ``tol=1e-5``; scipy's ``gtol``, the max-norm of the projected gradient, which is
-the gradient here since there are no bounds; ``ftol=0`` so that only the gradient stops it).
+Particle: ``Hexagon.from_continuum(ell=5, nu=0.5, eps=0.01)``. Scenes: disks R = 10, 25, 50, 100
+and straight periodic fibre cells (cut 0) of width 30 and 300 (``--quick``: R = 5, 10 and width
+30). Every path is asked for the same criterion, ``max|grad| <= 1e-5 * F`` (``F =
+particle.force_scale``; scipy's ``gtol``, the max-norm of the gradient here, with ``ftol=0``),
+and its relative energy error against a Newton reference at 1e-12 is measured and printed: all
+exact paths land below 1e-8.
 
-Paths timed (wall clock of the Python call, repeated round-robin so that load changes on a
-shared machine hit every path alike; min and median reported):
+Paths timed (wall clock of the Python call, repeated round-robin; min and median):
 
-* ``kernel lbfgs``        ``relax(..., 'lbfgs')`` from the bulk reference (cold start);
-* ``kernel linear``       ``relax(..., 'linear')``: one sparse LDL^T solve (not converged to the
-                          gradient tolerance: its energy error is O(eps^2), see bench_tradeoff);
-* ``kernel lbfgs warm``   ``relax(..., 'lbfgs', x0='linear')``: the linear solve then L-BFGS;
-* ``kernel newton``       ``relax(..., 'newton')``: Newton steps reusing the factorised reference
-                          stiffness from the linear solution, to the same tolerance;
-* ``scipy L-BFGS-B``      ``scipy.optimize.minimize(method='L-BFGS-B', jac=True)`` on the numpy
-                          energy of ``numpy_hexagon.py`` (same memory, 10 pairs): the baseline;
-* ``scipy + naive numpy`` the same on ``NaiveNumpyHexagon`` (particle-major arrays, np.add.at),
-                          for scale only: what a first numpy version would cost.
+* ``scipy L-BFGS-B``  ``scipy.optimize.minimize(method='L-BFGS-B', jac=True)`` on the vectorised
+                      numpy energy of ``numpy_hexagon.py`` (10 pairs of memory): the baseline;
+* ``kernel lbfgs``    NLopt L-BFGS from the bulk reference (Newton finishes if NLopt stops short);
+* ``newton cold``     ``relax(method='newton')`` from nothing: the Hessian pattern, CHOLMOD's
+                      symbolic analysis and the reference factorisation are part of the time;
+* ``newton cached``   the same with a ``StiffnessCache`` made by an earlier call on the topology
+                      (what a parameter scan or a Monte Carlo cache pays per relaxation);
+* ``linear cold``, ``linear cached``  one solve with the eps = 0 stiffness (energy error O(eps^2),
+                      listed for its speed).
 
-Start-up checks the numpy energy and gradient against the kernel (random and relaxed states) and
-stops with an AssertionError if they disagree.
+Also: one energy+gradient evaluation, kernel vs numpy, per particle; time per degree of freedom
+of the Newton paths as the disk grows. Start-up checks the numpy energy and gradient against the
+kernel and stops with an AssertionError if they disagree.
 
-    python benchmarks/bench_relax.py [--quick] [--radii 10 25] [--repeats 5] [--csv PATH]
+    python benchmarks/bench_relax.py [--quick] [--repeats 3] [--csv PATH]
 """
 from __future__ import annotations
 
 import argparse
-import math
 import statistics
 import sys
 import warnings
@@ -40,166 +39,135 @@ from _common import fmt_time, import_pyfrustrate, machine_line, per_call, table,
 import numpy as np  # noqa: E402
 from scipy.optimize import minimize  # noqa: E402
 
-from numpy_hexagon import NaiveNumpyHexagon, NumpyHexagon, check_against_kernel  # noqa: E402
+from numpy_hexagon import NumpyHexagon, check_against_kernel  # noqa: E402
 
 pf = import_pyfrustrate()
-try:  # the module was renamed relax -> relaxation
-    from pyfrustrate.relaxation import energy as kernel_energy  # noqa: E402
-except ImportError:  # pragma: no cover
-    from pyfrustrate.relax import energy as kernel_energy  # noqa: E402
+from pyfrustrate.relaxation import energy as kernel_energy  # noqa: E402
 
 ELL, NU, EPS = 5.0, 0.5, 0.01
 TOL = 1e-5  # relative: max|grad| <= TOL * force_scale
-
-
-def force_scale(p):
-    """The kernel's unit of the gradient tolerance (k * eps before force_scale existed)."""
-    return getattr(p, "force_scale", p.k * p.eps)
+ACCURACY = 1e-8  # the relative energy error every exact path must reach
 
 
 def particle():
     return pf.Hexagon.from_continuum(ELL, NU, EPS)
 
 
+def scenes(quick):
+    if quick:
+        return [("disk", 5), ("disk", 10), ("fibre", 30)]
+    return [("disk", 10), ("disk", 25), ("disk", 50), ("disk", 100), ("fibre", 30), ("fibre", 300)]
+
+
+def make_topology(kind, size):
+    return pf.topology.disk(size) if kind == "disk" else pf.topology.fiber(size, 0, curved=False)
+
+
 def startup_check(p, topo, seed=0):
-    """Numpy vs kernel on the reference, a random and a relaxed state (raises on mismatch)."""
     x0 = topo.reference_state()
     rng = np.random.default_rng(seed)
-    states = {"reference": x0, "random": x0 + 0.05 * rng.standard_normal(x0.size),
-              "relaxed": pf.relax(p, topo, tol=TOL).state}
-    return check_against_kernel(p, topo, states)
+    return check_against_kernel(p, topo, {"reference": x0, "random": x0 + 0.02 * rng.standard_normal(x0.size)})
 
 
-def run_paths(p, topo, repeats):
-    """Times and results of every relaxation path, interleaved over ``repeats`` rounds."""
+def run_paths(p, topo, repeats, scipy_repeats):
     x0 = topo.reference_state()
     model = NumpyHexagon(p, topo)
-    naive = NaiveNumpyHexagon(p, topo)
-    gtol = TOL * force_scale(p)
+    gtol = TOL * p.force_scale
+    cache = pf.StiffnessCache(topo)
+    pf.relax(p, topo, method="linear", cache=cache)  # the cached paths start with a made cache
 
-    def kernel(method, **kw):
+    def kernel(method, with_cache=False):
         def run():
-            r = pf.relax(p, topo, method, tol=TOL, **kw)
-            return dict(energy=r.energy, evals=r.iterations, gmax=r.gradient_norm, converged=r.converged)
+            r = pf.relax(p, topo, method, tol=TOL, cache=cache if with_cache else None)
+            return dict(energy=r.energy, evals=r.iterations, factorizations=r.factorizations,
+                        gmax=r.gradient_norm, converged=r.converged)
         return run
 
-    def scipy_run(fun):
-        def run():
-            res = minimize(fun, x0, jac=True, method="L-BFGS-B",
-                           options=dict(gtol=gtol, ftol=0.0, maxiter=10**6, maxfun=10**6, maxcor=10))
-            return dict(energy=float(res.fun), evals=int(res.nfev), gmax=float(np.abs(res.jac).max()),
-                        converged=bool(res.success) and np.abs(res.jac).max() <= gtol)
-        return run
+    def scipy_run():
+        res = minimize(model, x0, jac=True, method="L-BFGS-B",
+                       options=dict(gtol=gtol, ftol=0.0, maxiter=10**6, maxfun=10**6, maxcor=10))
+        return dict(energy=float(res.fun), evals=int(res.nfev), factorizations=0, gmax=float(np.abs(res.jac).max()),
+                    converged=bool(np.abs(res.jac).max() <= gtol))
 
-    paths = {"kernel lbfgs": kernel("lbfgs"), "kernel linear": kernel("linear"),
-             "kernel lbfgs warm": kernel("lbfgs", x0="linear"), "kernel newton": kernel("newton"),
-             "scipy L-BFGS-B": scipy_run(model),
-             "scipy + naive numpy": scipy_run(naive)}
+    paths = {"scipy L-BFGS-B": scipy_run, "kernel lbfgs": kernel("lbfgs"), "newton cold": kernel("newton"),
+             "newton cached": kernel("newton", True), "linear cold": kernel("linear"),
+             "linear cached": kernel("linear", True)}
     times = {k: [] for k in paths}
     results = {}
-    for _ in range(repeats):
+    for round_ in range(repeats):
         for name, fn in paths.items():
+            if name.startswith("scipy") and round_ >= scipy_repeats:
+                continue
             t, results[name] = timed(fn)
             times[name].append(t)
     return times, results
 
 
-def linear_profile(p, radii, repeats):
-    """Linear-solve time vs size, with the cost of its two energy evaluations subtracted: what
-    remains is Hessian assembly + LDL^T factorisation + solve."""
-    rows = []
-    for R in radii:
-        topo = pf.topology.disk(R)
-        x0 = topo.reference_state()
-        t_lin = min(timed(pf.relax, p, topo, "linear")[0] for _ in range(repeats))
-        t_eval = per_call(lambda: kernel_energy(p, topo, x0), repeats=repeats)[0]
-        rows.append(dict(R=R, n_dof=x0.size, t_linear=t_lin, t_eval=t_eval,
-                         t_solve=max(t_lin - 2 * t_eval, 0.0)))
-    return rows
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="small sizes, few repeats (smoke run)")
-    ap.add_argument("--radii", type=int, nargs="+", default=None)
     ap.add_argument("--repeats", type=int, default=None)
     ap.add_argument("--csv", type=Path, default=None, help="write the relaxation table here")
     args = ap.parse_args(argv)
-    radii = args.radii or ([5, 10] if args.quick else [10, 25])
-    repeats = args.repeats or (2 if args.quick else 5)
-    scaling_radii = [5, 10, 15] if args.quick else [5, 10, 20, 30, 40]
+    repeats = args.repeats or (2 if args.quick else 3)
 
     p = particle()
     print(f"bench_relax: Hexagon.from_continuum(ell={ELL}, nu={NU}, eps={EPS}) = {p}")
-    print(f"  stop: max|grad| <= {TOL:g} * force_scale = {TOL * force_scale(p):.1e}; {machine_line()}")
-    print("  timings are wall-clock min (median) over", repeats, "interleaved repeats\n")
+    print(f"  stop: max|grad| <= {TOL:g} * force_scale = {TOL * p.force_scale:.1e}; relative energy error "
+          f"against Newton at 1e-12 must be < {ACCURACY:g}; {machine_line()}")
+    print("  timings are wall-clock min (median) over interleaved repeats\n")
 
-    csv_rows, summary = [], []
-    for R in radii:
-        topo = pf.topology.disk(R)
+    csv_rows, summary, per_dof = [], [], []
+    for kind, size in scenes(args.quick):
+        topo = make_topology(kind, size)
         x0 = topo.reference_state()
+        label = f"{kind} {'R' if kind == 'disk' else 'W'}={size}"
         de, dg = startup_check(p, topo)
-        print(f"disk R={R}: {topo.n_particles} particles, {x0.size} dof. numpy vs kernel: energy "
-              f"{de:.1e} relative, gradient {dg:.1e} k*eps (checked, < 1e-12 and 1e-12*max|x|)")
-
-        # (a) one energy + gradient evaluation
-        model, naive = NumpyHexagon(p, topo), NaiveNumpyHexagon(p, topo)
-        e_n, g_n = model(x0 + 0.01)
-        e_v, g_v = naive(x0 + 0.01)
-        assert abs(e_v - e_n) <= 1e-12 * e_n and np.abs(g_v - g_n).max() <= 1e-12, "naive numpy disagrees"
-        k_min, k_med = per_call(lambda: kernel_energy(p, topo, x0), repeats=repeats + 2)
-        n_min, n_med = per_call(lambda: model(x0), repeats=repeats + 2)
-        v_min, v_med = per_call(lambda: naive(x0), repeats=max(3, repeats // 2))
-        print(f"  (a) energy+gradient: kernel {fmt_time(k_min)} ({fmt_time(k_med)}), numpy "
-              f"{fmt_time(n_min)} ({fmt_time(n_med)}): numpy/kernel = {n_min / k_min:.1f}x "
-              f"(median {n_med / k_med:.1f}x)\n      [naive numpy, (P, 6, 2) + np.add.at: "
-              f"{fmt_time(v_min)} = {v_min / k_min:.0f}x the kernel]")
-
-        # (b) full relaxations
+        print(f"{label}: {topo.n_particles} particles, {x0.size} dof (numpy vs kernel: energy {de:.0e}, "
+              f"gradient {dg:.0e} F)")
+        model = NumpyHexagon(p, topo)
+        k_min, _ = per_call(lambda: kernel_energy(p, topo, x0), repeats=5)
+        n_min, _ = per_call(lambda: model(x0), repeats=5)
+        print(f"  one energy+gradient: kernel {fmt_time(k_min)} ({k_min / topo.n_particles * 1e9:.0f} ns/particle), "
+              f"numpy {fmt_time(n_min)}: {n_min / k_min:.1f}x")
         with warnings.catch_warnings():
             warnings.simplefilter("error", pf.ConvergenceWarning)
-            times, results = run_paths(p, topo, repeats)
-        best = min(r["energy"] for r in results.values())
+            reference = pf.relax(p, topo, method="newton", tol=1e-12).energy
+            big = x0.size > 50_000
+            times, results = run_paths(p, topo, 2 if big else repeats, 1 if big else repeats)
         base_min = min(times["scipy L-BFGS-B"])
         base_med = statistics.median(times["scipy L-BFGS-B"])
         rows = []
         for name, r in results.items():
             t_min, t_med = min(times[name]), statistics.median(times[name])
-            one_eval = k_min if name.startswith("kernel") else (n_min if name == "scipy L-BFGS-B" else v_min)
-            eval_cost = one_eval * r["evals"]
-            in_energy = "-" if name == "kernel linear" else f"{min(eval_cost / t_min, 1.0):.0%}"
-            rel = (r["energy"] - best) / best
-            rows.append((name, fmt_time(t_min), fmt_time(t_med), r["evals"], f"{r['energy']:.12g}",
-                         f"{rel:.1e}", f"{r['gmax'] / force_scale(p):.1e}",
-                         f"{base_min / t_min:.1f}x", f"{base_med / t_med:.1f}x", in_energy))
-            csv_rows.append(dict(R=R, n_dof=x0.size, path=name, t_min=t_min, t_median=t_med,
-                                 evals=r["evals"], energy=r["energy"], rel_energy_diff=rel,
-                                 gmax_over_force_scale=r["gmax"] / force_scale(p), converged=r["converged"],
-                                 speedup_min=base_min / t_min, speedup_median=base_med / t_med,
-                                 eval_kernel=k_min, eval_numpy=n_min))
-            summary.append((R, name, base_min / t_min, base_med / t_med))
-        print("  (b) full relaxation")
-        print("      " + table(rows, ["path", "time min", "median", "evals", "energy", "dE/E_best",
-                                      "max|g|/F", "speed-up", "(median)", "in energy"]).replace(
-            "\n", "\n      "))
-        print("      speed-up = scipy time / path time, same run; 'in energy' = evals x one "
-              "evaluation / total: the rest is the optimiser's own work\n")
+            err = (r["energy"] - reference) / reference
+            exact = not name.startswith("linear")
+            if exact and abs(err) >= ACCURACY:
+                raise AssertionError(f"{label} {name}: relative energy error {err:.1e} >= {ACCURACY:g}")
+            rows.append((name, fmt_time(t_min), fmt_time(t_med), r["evals"], r["factorizations"], f"{err:.1e}",
+                         f"{base_min / t_min:.1f}x", f"{base_med / t_med:.1f}x"))
+            csv_rows.append(dict(scene=label, kind=kind, size=size, n_dof=x0.size, path=name, t_min=t_min,
+                                 t_median=t_med, evals=r["evals"], factorizations=r["factorizations"],
+                                 rel_energy_error=err, converged=r["converged"], speedup_min=base_min / t_min,
+                                 speedup_median=base_med / t_med, eval_kernel=k_min, eval_numpy=n_min))
+            summary.append((label, name, base_min / t_min))
+            if kind == "disk" and name.startswith("newton"):
+                per_dof.append((name, size, x0.size, t_min / x0.size))
+        print("  " + table(rows, ["path", "time min", "median", "evals", "factorisations", "dE/E",
+                                  "speed-up", "(median)"]).replace("\n", "\n  ") + "\n")
 
-    prof = linear_profile(p, scaling_radii, max(2, repeats - 2))
-    rows = [(r["R"], r["n_dof"], fmt_time(r["t_linear"]), fmt_time(2 * r["t_eval"]),
-             fmt_time(r["t_solve"]), f"{r['t_solve'] / r['n_dof'] * 1e6:.2f} us") for r in prof]
-    print("linear solve vs size (assembly + LDL^T + solve = total - 2 energy evaluations)")
-    print("  " + table(rows, ["R", "dof", "linear total", "2 evals", "assembly+LDL^T",
-                              "per dof"]).replace("\n", "\n  "))
-    if len(prof) >= 2:
-        a, b = prof[-2], prof[-1]
-        slope = math.log(b["t_solve"] / a["t_solve"]) / math.log(b["n_dof"] / a["n_dof"])
-        print(f"  growth between the two largest: time ~ dof^{slope:.2f} (assembly alone is linear "
-              "in dof;\n  see profile_kernel.py for the phase split)")
-
-    print("\nsummary: speed-up over scipy L-BFGS-B + numpy (min-based, median-based)")
-    print("  " + table([(R, n, f"{a:.1f}x", f"{m:.1f}x") for R, n, a, m in summary],
-                       ["R", "path", "min", "median"]).replace("\n", "\n  "))
+    print("time per degree of freedom, Newton on disks (min)")
+    for name in ("newton cold", "newton cached"):
+        pts = [(R, n, t) for nm, R, n, t in per_dof if nm == name]
+        if pts:
+            first = pts[0][2]
+            print(f"  {name:14s} " + "  ".join(f"R={R}: {t * 1e9:.0f} ns ({t / first:.2f}x)" for R, n, t in pts))
+    print("\nsummary: speed-up over scipy L-BFGS-B + numpy (same run, min-based)")
+    labels = list(dict.fromkeys(s[0] for s in summary))
+    names = list(dict.fromkeys(s[1] for s in summary if s[1] != "scipy L-BFGS-B"))
+    lookup = {(s[0], s[1]): s[2] for s in summary}
+    print("  " + table([[lab] + [f"{lookup[(lab, n)]:.1f}x" for n in names] for lab in labels],
+                       ["scene"] + names).replace("\n", "\n  "))
     if args.csv:
         write_csv(args.csv, csv_rows)
     return summary

@@ -19,7 +19,7 @@ Per particle (slots 0..5 at 30, 90, ..., 330 degrees; odd slots yellow, even red
 
 Usage::
 
-    model = NumpyHexagon(particle, topology)      # pyfrustrate.Hexagon, finite Topology
+    model = NumpyHexagon(particle, topology)      # pyfrustrate.Hexagon, finite or straight-fibre Topology
     E, g = model.energy_and_gradient(x)           # x = (x0, y0, x1, y1, ...)
 
 ``check_against_kernel`` compares it with the kernel and raises ``AssertionError`` on mismatch
@@ -64,8 +64,9 @@ class NumpyHexagon:
     """
 
     def __init__(self, particle, topology):
-        if topology.periodicity != "none":
-            raise ValueError("NumpyHexagon handles finite aggregates only (no periodic images)")
+        straight_fibre = topology.periodicity == "fiber" and not topology.curved
+        if topology.periodicity != "none" and not straight_fibre:
+            raise ValueError("NumpyHexagon handles finite aggregates and straight periodic fibres only")
         k, kc, k_area, eps = particle.k, particle.kc, particle.k_area, particle.eps
         yellow, red = 1.0 + eps, 1.0 - eps
         side = np.sqrt((yellow**2 + red**2 - yellow * red) / 3.0)
@@ -78,6 +79,10 @@ class NumpyHexagon:
         corners = np.asarray(topology.kernel.corners, dtype=np.intp)    # (P, 6)
         self.corners_t = np.ascontiguousarray(corners.T)                # (6, P)
         self.n_corners = topology.n_corners
+        # Straight fibre: slot s of particle p sees image n of its corner, r + n t, with the period
+        # vector t = (tx, ty) the last two entries of the state.
+        self.images_t = (np.ascontiguousarray(np.asarray(topology.kernel.images)[:, :, 0].T).astype(float)
+                         if straight_fibre else None)                   # (6, P)
         self._flat = self.corners_t.ravel()
         P = corners.shape[0]
         self._c = np.empty((2, 6, P))       # corner coordinates
@@ -91,7 +96,11 @@ class NumpyHexagon:
     def energy_and_gradient(self, x):
         x = np.asarray(x, dtype=float)
         c, g, d, L, S, KS = self._c, self._g, self._d, self._len, self._stretch, self._ks
-        np.take(x.reshape(-1, 2).T, self.corners_t, axis=1, out=c)     # gather (2, 6, P)
+        n_dof = 2 * self.n_corners
+        np.take(x[:n_dof].reshape(-1, 2).T, self.corners_t, axis=1, out=c)  # gather (2, 6, P)
+        if self.images_t is not None:
+            c[0] += self.images_t * x[n_dof]
+            c[1] += self.images_t * x[n_dof + 1]
         np.matmul(_INCIDENCE, c, out=d)                                  # spring vectors
         if self.k_area != 0.0:
             # Signed areas from the triangle sides (springs 0, 2 yellow; 3, 5 red), not from the
@@ -124,9 +133,12 @@ class NumpyHexagon:
             g3[0] += w * qc[1].reshape(3, 2, -1)
             g3[1] -= w * qc[0].reshape(3, 2, -1)
 
-        grad = np.empty(2 * self.n_corners)
-        grad[0::2] = np.bincount(self._flat, weights=g[0].ravel(), minlength=self.n_corners)
-        grad[1::2] = np.bincount(self._flat, weights=g[1].ravel(), minlength=self.n_corners)
+        grad = np.empty(x.size)
+        grad[0:n_dof:2] = np.bincount(self._flat, weights=g[0].ravel(), minlength=self.n_corners)
+        grad[1:n_dof:2] = np.bincount(self._flat, weights=g[1].ravel(), minlength=self.n_corners)
+        if self.images_t is not None:
+            grad[n_dof] = np.vdot(self.images_t, g[0])
+            grad[n_dof + 1] = np.vdot(self.images_t, g[1])
         return float(energy), grad
 
     __call__ = energy_and_gradient
@@ -138,6 +150,8 @@ class NaiveNumpyHexagon(NumpyHexagon):
     timed in bench_relax only to show how much of the baseline is numpy craft (~3-10x)."""
 
     def energy_and_gradient(self, x):
+        if self.images_t is not None:
+            raise ValueError("NaiveNumpyHexagon handles finite aggregates only")
         pos = np.asarray(x, dtype=float).reshape(-1, 2)
         corners = self.corners_t.T
         c = pos[corners]                                                 # (P, 6, 2)

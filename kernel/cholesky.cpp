@@ -7,10 +7,31 @@
 #include <stdexcept>
 #include <string>
 
+#ifdef PYFRUSTRATE_HAVE_OPENMP
+#include <omp.h>
+#endif
+
 namespace pyfrustrate {
 namespace {
 
 cholmod_common* common_of(void* p) { return static_cast<cholmod_common*>(p); }
+
+// Debian's CHOLMOD runs parts of its supernodal factorisation in OpenMP teams of a fixed four
+// threads (CHOLMOD_OMP_NUM_THREADS, a compile-time constant that omp_set_num_threads cannot
+// override). On these matrices the teams cost more than they give: measured at R = 10 / 25 on
+// 2 cores, 6-25 ms / 80-165 ms per factorisation with them, 1.2-2 ms / 37-50 ms without. The
+// kernel is single-threaded by design (parallelism comes from independent jobs), so each CHOLMOD
+// call runs with parallel regions made inactive (max-active-levels 0), restored afterwards.
+class SerialOpenMP {
+   public:
+#ifdef PYFRUSTRATE_HAVE_OPENMP
+    SerialOpenMP() : saved_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
+    ~SerialOpenMP() { omp_set_max_active_levels(saved_); }
+
+   private:
+    int saved_;
+#endif
+};
 
 }  // namespace
 
@@ -35,7 +56,11 @@ CholeskyAnalysis::CholeskyAnalysis(int n, const std::vector<int>& column_start, 
     std::copy(row.begin(), row.end(), static_cast<int*>(A->i));
     std::fill_n(static_cast<double*>(A->x), nnz, 0.0);
     matrix_ = A;
-    cholmod_factor* L = cholmod_analyze(A, c);
+    cholmod_factor* L = nullptr;
+    {
+        SerialOpenMP serial;
+        L = cholmod_analyze(A, c);
+    }
     if (!L || c->status < CHOLMOD_OK) {
         cholmod_free_sparse(&A, c);
         cholmod_finish(c);
@@ -81,7 +106,11 @@ bool CholeskyFactor::factorize(const std::vector<double>& values) {
     if (values.size() != A->nzmax) throw std::invalid_argument("sparse Cholesky: values do not match the pattern");
     std::copy(values.begin(), values.end(), static_cast<double*>(A->x));
     auto* L = static_cast<cholmod_factor*>(factor_);
-    const int status = cholmod_factorize(A, L, c);
+    int status = 0;
+    {
+        SerialOpenMP serial;
+        status = cholmod_factorize(A, L, c);
+    }
     ok_ = status && c->status == CHOLMOD_OK && L->minor == L->n;
     if (ok_ && !L->is_super && !L->is_ll) {
         // Simplicial LDL^T: positive definite means every pivot positive (CHOLMOD only rejects zero ones).
@@ -127,7 +156,11 @@ Eigen::VectorXd CholeskyFactor::solve(const Eigen::VectorXd& b) const {
     rhs.z = nullptr;
     rhs.xtype = CHOLMOD_REAL;
     rhs.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense* x = cholmod_solve(CHOLMOD_A, static_cast<cholmod_factor*>(factor_), &rhs, c);
+    cholmod_dense* x = nullptr;
+    {
+        SerialOpenMP serial;
+        x = cholmod_solve(CHOLMOD_A, static_cast<cholmod_factor*>(factor_), &rhs, c);
+    }
     if (!x) throw std::runtime_error("sparse Cholesky: CHOLMOD's solve failed");
     Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(x->x), n);
     cholmod_free_dense(&x, c);
