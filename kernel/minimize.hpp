@@ -33,6 +33,8 @@ struct MinimizeOptions {
     double newton_switch_ratio = 0.9;
     // relax_newton: largest displacement of a corner in one step (lattice units), a trust region.
     double newton_max_step = 0.25;
+    // relax_newton: hand over to L-BFGS where damped Newton makes slow progress.
+    bool newton_handover = true;
 };
 
 struct MinimizeResult {
@@ -48,6 +50,7 @@ struct MinimizeResult {
     int newton_steps = 0;
     int factorizations = 0;
     int lbfgs_evaluations = 0;
+    bool handed_over = false;  // Newton gave the minimisation to L-BFGS (strongly nonlinear scene)
 };
 
 // NLopt's LD_LBFGS from x0; stops as soon as the gradient tolerance is met (NLopt itself has

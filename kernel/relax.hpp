@@ -252,6 +252,8 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
     std::unique_ptr<CholeskyFactor> hessian;
     double shift = 0;  // Levenberg-Marquardt damping of the exact Hessian
     double best_gnorm = gnorm;
+    int damped_steps = 0;
+    bool handover = false;
     double runaway = 1.0;  // the aggregate's size: largest distance of a corner from corner 0, or a period
     for (const Vec2& r : topology.reference) runaway = std::max(runaway, (r - topology.reference[0]).norm());
     if (topology.n_period_parameters()) runaway += topology.reference_period_parameters().head<2>().norm();
@@ -325,7 +327,18 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
             break;
         }
         ++steps;
+        if (shift > 0) ++damped_steps;
         shift = shift > 1e-6 ? shift / 100 : 0;
+        if (options.newton_handover && damped_steps > 4 && trial_gnorm > options.gradient_tolerance) {
+            // Far from the minimum, where the Hessian stays indefinite (large eps, nu -> 1),
+            // L-BFGS globalises better than damped Newton; Newton finishes after it.
+            u = std::move(trial);
+            energy = trial_energy;
+            gnorm = trial_gnorm;
+            stop = "handed over to L-BFGS: the exact Hessian was indefinite in 5 steps";
+            handover = true;
+            break;
+        }
         // Round-off: the force no longer falls (its noise is reached). Give up after eight exact
         // steps that neither lowered the energy beyond round-off nor the best force tenfold.
         const bool energy_still_falls = energy - trial_energy > 1e-13 * std::abs(energy);
@@ -336,7 +349,10 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
             u = std::move(trial);
             energy = trial_energy;
             gnorm = trial_gnorm;
-            stop = "round-off floor: the largest force stopped falling (its noise is reached)";
+            // A stall far above the tolerance is the landscape's doing, not round-off's.
+            handover = options.newton_handover && gnorm > 1e4 * options.gradient_tolerance;
+            stop = handover ? "handed over to L-BFGS: Newton stalled far from the tolerance"
+                            : "round-off floor: the largest force stopped falling (its noise is reached)";
             break;
         }
         if (!exact && trial_gnorm > options.gradient_tolerance) {
@@ -366,16 +382,33 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
     result.factorizations = factorizations;
     result.converged = gnorm <= options.gradient_tolerance;
     result.status = result.converged ? "gradient tolerance reached" : stop;
+    result.handed_over = handover && !result.converged;
     return result;
 }
 
-// The nonlinear minimum by Newton steps from the linear response.
+template <class Model>
+MinimizeResult relax_lbfgs(const Model& model, const Topology& topology, const Vector& x0,
+                           const MinimizeOptions& options, StiffnessCache* given = nullptr);
+
+// The nonlinear minimum by Newton steps from the linear response; where Newton hands over
+// (strongly nonlinear scenes), L-BFGS from its last state, finished by Newton again.
 template <class Model>
 MinimizeResult relax_newton(const Model& model, const Topology& topology, const MinimizeOptions& options,
                             StiffnessCache* given = nullptr) {
     CacheHandle cache(topology, given);
     Vector u0 = linear_displacement(model, topology, *cache);
     MinimizeResult r = newton_from(model, topology, std::move(u0), options, *cache);
+    if (r.handed_over && r.iterations < options.max_iterations) {
+        MinimizeOptions rest = options;
+        rest.max_iterations = options.max_iterations - r.iterations;
+        rest.newton_handover = false;
+        MinimizeResult l = relax_lbfgs(model, topology, r.x, rest, &*cache);
+        l.status = "newton (" + std::to_string(r.newton_steps) + " steps, " + r.status + "), then " + l.status;
+        l.iterations += r.iterations;
+        l.newton_steps += r.newton_steps;
+        l.factorizations += r.factorizations;
+        return l;
+    }
     r.status = "newton: " + r.status;
     return r;
 }
@@ -385,7 +418,7 @@ MinimizeResult relax_newton(const Model& model, const Topology& topology, const 
 // digits) is finished by Newton steps; the status says which did the work.
 template <class Model>
 MinimizeResult relax_lbfgs(const Model& model, const Topology& topology, const Vector& x0,
-                           const MinimizeOptions& options, StiffnessCache* given = nullptr) {
+                           const MinimizeOptions& options, StiffnessCache* given) {
     const Network<Model> net{model, topology};
     if (x0.size() != net.size())
         throw std::invalid_argument("x0 has " + std::to_string(x0.size()) + " entries, the network has " +
@@ -399,7 +432,9 @@ MinimizeResult relax_lbfgs(const Model& model, const Topology& topology, const V
         const std::string lbfgs_status = r.status;
         try {
             CacheHandle cache(topology, given);
-            MinimizeResult n = newton_from(model, topology, r.x, options, *cache, r.iterations);
+            MinimizeOptions finish = options;
+            finish.newton_handover = false;
+            MinimizeResult n = newton_from(model, topology, r.x, finish, *cache, r.iterations);
             n.lbfgs_evaluations = r.lbfgs_evaluations;
             n.status = "L-BFGS stopped short (" + lbfgs_status + ") after " + std::to_string(r.iterations) +
                        " evaluations, then newton: " + n.status;
