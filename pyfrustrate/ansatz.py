@@ -100,10 +100,12 @@ class CatalogueEnergies:
         return np.argmin(total, axis=0)
 
 
-def relax_catalogue(particle, candidates, method: str = "lbfgs", tol: float = 1e-5, progress: bool = False,
+def relax_catalogue(particle, candidates, method: str = "auto", tol: float = 1e-5, progress: bool = False,
                     description: str = "catalogue") -> CatalogueEnergies:
-    """Relax every candidate once. ``method='lbfgs'`` starts from the linear solution (fast and
-    exact to the tolerance); ``'linear'`` keeps the linear solution (error O(eps^2) relative)."""
+    """Relax every candidate once. ``method='auto'`` (Newton) and ``'lbfgs'`` (started from the
+    linear solution) are exact to the tolerance; ``'linear'`` keeps the linear solution (error
+    O(eps^2) relative). On the paper-scale catalogue at ell = 5 Newton took a fifth of L-BFGS's
+    time (benchmarks/README.md)."""
     rows = []
     iterator = candidates
     if progress:
