@@ -4,19 +4,18 @@ Aggregates: ``disk(15)`` (721 particles) and ``fiber(30, 1)`` (one period of a 3
 mirror-symmetric fibre, curved=True: the period map has a free angle), ell = 5, nu in {0.2, 0.9},
 eps in {0.005, 0.01, 0.02}. Methods:
 
-* ``linear``               one sparse LDL^T solve (error O(eps^2) by construction);
+* ``linear``               one sparse Cholesky solve (error O(eps^2) by construction);
 * ``lbfgs tol=T``          L-BFGS from the bulk reference, stops at max|grad| <= T F, with the
                            kernel's force unit F = particle.force_scale = eps max(k, |k_area|, kc)
                            (k eps at nu = 0.2; 14.7 k eps at nu = 0.9, where k_area = 14.7 k);
+                           Newton finishes where NLopt stops short;
 * ``lbfgs tol=T (warm)``   the same from the linear solution (``x0='linear'``; time includes the
-                           linear solve), T in {1e-2, 1e-3, 1e-4, 1e-5}.
+                           linear solve);
+* ``newton tol=T``         Newton from the linear solution (reference stiffness, then the exact
+                           Hessian), T in {1e-2, 1e-3, 1e-4, 1e-5, 1e-8, 1e-10}.
 
-Reference: two chains, linear solve -> L-BFGS tol=1e-4 -> tol=1e-7 and cold L-BFGS tol=1e-3 ->
-tol=1e-4 -> tol=1e-7 (each warm-started from the last); the lowest sane energy they reach, or
-that of any converged run of the sweep if lower (flagged; it happens when both chains run away,
-or at the 1e-12 level where the reference can't be resolved). tol=1e-7 is often below what L-BFGS can resolve in double
-precision (NLopt stops "roundoff limited"): the gradient the reference reached is printed, and
-the error of the tol=1e-5 runs (~1e-12) shows the reference's own resolution.
+Reference: Newton at tol 1e-12 (converged to round-off on every configuration here; a lower
+energy from any converged run of the sweep would replace it, flagged).
 
 Runs are capped at ``--max-iter`` evaluations (default 5000). A run whose energy is negative or
 not finite is reported as DIVERGED: for nu < 1/3 the areal stiffness is negative and the energy
@@ -41,8 +40,8 @@ from _common import fmt_time, import_pyfrustrate, machine_line, table, timed, wr
 pf = import_pyfrustrate()
 
 ELL = 5.0
-TOLS = (1e-2, 1e-3, 1e-4, 1e-5)
-REF_TOL = 1e-7
+TOLS = (1e-2, 1e-3, 1e-4, 1e-5, 1e-8, 1e-10)
+REF_TOL = 1e-12
 
 
 def methods():
@@ -58,22 +57,9 @@ def _sane(r):
 
 
 def reference(p, topo, max_iter):
-    """Sane end points of two chains, linear -> tol 1e-4 -> tol 1e-7 and cold tol 1e-3 ->
-    tol 1e-4 -> tol 1e-7 (each step warm-started from the last sane state)."""
-    out = []
-    for first in (pf.relax(p, topo, "linear"),
-                  pf.relax(p, topo, "lbfgs", tol=1e-3, max_iter=max_iter)):
-        last = first
-        for tol in (1e-4, REF_TOL):
-            if not _sane(last):
-                break
-            r = pf.relax(p, topo, "lbfgs", tol=tol, x0=last.state, max_iter=max_iter)
-            if _sane(r):
-                out.append(r)
-                last = r
-            else:
-                break
-    return out
+    """The Newton minimum at REF_TOL (a list: empty if it is not sane)."""
+    r = pf.relax(p, topo, "newton", tol=REF_TOL, max_iter=max_iter)
+    return [r] if _sane(r) else []
 
 
 def measure(p, topo, method, tol, x0, repeats, max_iter):
@@ -128,8 +114,8 @@ def main(argv=None):
                         tol=tol if tol is not None else "", start=x0 or ("" if method == "linear" else "reference"),
                         t_min=t_min, t_median=t_med, evals=r.iterations, converged=r.converged,
                         diverged=not _sane(r), energy=r.energy))
-                # Reference: the lowest sane energy of the tol-1e-7 chains, or of any converged
-                # L-BFGS run of the sweep if that is lower (then flagged).
+                # Reference: the Newton minimum at REF_TOL, or any converged run of the sweep if
+                # that is lower (then flagged).
                 candidates = [(r.energy, r, "chain") for r in chain]
                 candidates += [(c["energy"], None, c["method"]) for c in config
                                if c["converged"] and not c["diverged"] and c["method"] != "linear"]
@@ -146,7 +132,7 @@ def main(argv=None):
 
     # Side by side: one table per topology, (nu, eps) rows, methods as columns (two halves).
     names = [m[0] for m in methods()]
-    halves = [names[:5], names[5:]]
+    halves = [names[:7], names[7:13], names[13:]]
     for topo in topologies:
         sub = [r for r in rows if r["topology"] == topo.label]
         keys = sorted({(r["nu"], r["eps"]) for r in sub})
@@ -162,8 +148,7 @@ def main(argv=None):
         print("  reference max|grad|/force_scale: " + ", ".join(
             f"nu={nu:g} eps={eps:g}: {g:.0e}{'' if ok else '*'}{'' if src == 'chain' else ' [' + src + ']'}"
             for nu, eps, g, ok, src in refs)
-            + "\n  (* = tol 1e-7 not reached: NLopt stopped roundoff-limited; [m] = reference taken from run m,"
-            "\n  lower than the tol-1e-7 chains, or the only sane one)\n")
+            + f"\n  (* = tol {REF_TOL:g} not reached; [m] = reference taken from run m, lower than Newton's)\n")
 
     # Knob summary: per method, the median over sane configurations.
     body = []

@@ -1,0 +1,88 @@
+"""The relaxation engine against independent results: the exact Hessian against finite
+differences of the gradient, Newton against L-BFGS, the displacement form against the positions,
+and the minimisers' reports (which did the work, why they stopped)."""
+import numpy as np
+import pytest
+
+import pyfrustrate as pf
+from pyfrustrate import _kernel
+from pyfrustrate import topology as T
+from pyfrustrate.random_particles import RandomHexagon
+
+PARTICLES = {
+    "hexagon": pf.Hexagon.from_continuum(ell=3, nu=0.7, eps=0.1),
+    "hexagon k_area<0": pf.Hexagon.from_continuum(ell=3, nu=0.1, eps=0.05),
+    "random": RandomHexagon.draw(seed=7, index=3, eps=0.05),
+}
+SCENES = [T.disk(2), T.fiber(4, 1), T.fiber(5, 2), T.fiber(4, 0, curved=False), T.bulk(),
+          T.bulk_with_holes("kagome")]
+
+
+@pytest.mark.parametrize("name", PARTICLES)
+@pytest.mark.parametrize("topo", SCENES, ids=lambda t: t.label)
+def test_exact_hessian_is_the_derivative_of_the_gradient(name, topo):
+    # Away from equilibrium (random displacement, a bent fibre): the curvature of the period map
+    # contracted with the forces is part of the Hessian, and is checked here with the rest.
+    p = PARTICLES[name]
+    rng = np.random.default_rng(3)
+    n = topo.reference_state().size
+    u = 0.02 * rng.standard_normal(n)
+    if topo.curved:
+        u[-1] = 0.4
+    H = _kernel.hessian(p._kernel_model, topo.kernel, u, True).toarray()
+    assert np.array_equal(H, H.T)
+    step = 1e-6
+    fd = np.empty((n, n))
+    for i in range(n):
+        e = np.zeros(n)
+        e[i] = step
+        plus = _kernel.energy_of_displacement(p._kernel_model, topo.kernel, u + e)[1]
+        minus = _kernel.energy_of_displacement(p._kernel_model, topo.kernel, u - e)[1]
+        fd[:, i] = (plus - minus) / (2 * step)
+    assert np.abs(H - fd).max() <= 1e-7 * np.abs(fd).max()
+    # Its Gauss-Newton part differs from it only where the period map is curved.
+    gn = _kernel.hessian(p._kernel_model, topo.kernel, u, False).toarray()
+    if topo.periodicity == "fiber" and topo.curved:
+        assert np.abs(H - gn).max() > 1e-6 * np.abs(H).max()
+
+
+@pytest.mark.parametrize("topo", SCENES, ids=lambda t: t.label)
+def test_displacement_form_agrees_with_positions(topo):
+    p = PARTICLES["hexagon"]
+    rng = np.random.default_rng(5)
+    x = topo.reference_state() + 0.03 * rng.standard_normal(topo.reference_state().size)
+    e_x, g_x = pf.relaxation.energy(p, topo, x)
+    e_u, g_u = _kernel.energy_of_displacement(p._kernel_model, topo.kernel, x - topo.reference_state())
+    assert e_u == pytest.approx(e_x, rel=1e-14)
+    assert np.abs(g_u - g_x).max() <= 1e-14
+
+
+@pytest.mark.parametrize("name", PARTICLES)
+@pytest.mark.parametrize("topo", [T.disk(5), T.fiber(10, 1), T.bulk_with_holes("sqrt7")], ids=lambda t: t.label)
+def test_newton_and_lbfgs_find_the_same_minimum(name, topo):
+    p = PARTICLES[name]
+    newton = pf.relax(p, topo, method="newton", tol=1e-11)
+    lbfgs = pf.relax(p, topo, method="lbfgs", tol=1e-11)
+    assert newton.converged and lbfgs.converged
+    assert newton.energy == pytest.approx(lbfgs.energy, rel=1e-10)
+    assert np.allclose(newton.state, topo.reference_state() + newton.displacement, rtol=0, atol=1e-12)
+    # The largest force reported is the one at the returned state.
+    _, g = pf.relaxation.energy(p, topo, newton.state)
+    assert np.abs(g).max() == pytest.approx(newton.gradient_norm, rel=1e-3, abs=1e-13)
+
+
+def test_auto_is_newton_and_reports_its_work():
+    p = PARTICLES["hexagon"]
+    r = pf.relax(p, T.disk(6), tol=1e-10)
+    assert r.method == "newton" and r.converged
+    assert r.newton_steps >= 1 and r.lbfgs_evaluations == 0
+    assert "newton" in r.status
+    # With a start, auto means L-BFGS (Newton starts from the linear response).
+    assert pf.relax(p, T.disk(6), x0="linear").method == "lbfgs"
+
+
+def test_newton_refuses_a_start_and_bad_caches():
+    with pytest.raises(ValueError, match="x0"):
+        pf.relax(PARTICLES["hexagon"], T.disk(2), method="newton", x0="linear")
+    with pytest.raises(ValueError, match="switch_ratio"):
+        _kernel.relax_newton(PARTICLES["hexagon"]._kernel_model, T.disk(2).kernel, 1e-8, 100, None, False, 0.0)
