@@ -223,7 +223,7 @@ MinimizeResult relax_linear(const Model& model, const Topology& topology, Stiffn
 }
 
 // Newton from displacement u0. Directions: -K^-1 g with the reference stiffness K (factorised
-// once, a solve per step), or -H^-1 g with the exact Hessian H (one numeric factorisation per
+// once, a solve per step; quasi-Newton pairs refine it, see below), or -H^-1 g with the exact Hessian H (one numeric factorisation per
 // step on the shared analysis; where H is not positive definite, the reference direction). The
 // reference steps contract the force linearly (by a ratio that grows with eps and near
 // instabilities), exact ones quadratically; after each reference step the cheaper way to the
@@ -252,6 +252,11 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
     std::unique_ptr<CholeskyFactor> hessian;
     double shift = 0;  // Levenberg-Marquardt damping of the exact Hessian
     double best_gnorm = gnorm;
+    struct Pair {
+        Vector s, y;
+        double rho;
+    };
+    std::vector<Pair> history;  // quasi-Newton pairs of the reference-stiffness steps
     int damped_steps = 0;
     bool handover = false;
     double runaway = 1.0;  // the aggregate's size: largest distance of a corner from corner 0, or a period
@@ -293,8 +298,30 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
                 shift = shift > 0 ? 10 * shift : 1e-4;
             }
         }
-        if (direction.size() == 0) direction = -reference_solve(model, cache, gradient);
-        if (!(gradient.dot(direction) < 0) || !direction.allFinite()) direction = -reference_solve(model, cache, gradient);
+        if (direction.size() == 0) {
+            // Quasi-Newton on the reference stiffness: L-BFGS's two-loop recursion with K^-1 as
+            // the initial inverse Hessian, over the last steps taken in this mode. K carries the
+            // linear elasticity; the pairs learn the nonlinear rest, so the contraction per step
+            // improves on the fixed-stiffness iteration (measured at R = 25, eps = 0.01: 5
+            // instead of 6 steps to tol 1e-5, 10 instead of 13 to 1e-10). Pinned entries of s
+            // are zero, so they stay out of every product.
+            Vector q = gradient;
+            std::vector<double> alpha(history.size());
+            for (int i = static_cast<int>(history.size()) - 1; i >= 0; --i) {
+                alpha[i] = history[i].rho * history[i].s.dot(q);
+                q -= alpha[i] * history[i].y;
+            }
+            direction = reference_solve(model, cache, q);
+            for (size_t i = 0; i < history.size(); ++i) {
+                const double beta = history[i].rho * history[i].y.dot(direction);
+                direction += (alpha[i] - beta) * history[i].s;
+            }
+            direction = -direction;
+        }
+        if (!(gradient.dot(direction) < 0) || !direction.allFinite()) {
+            history.clear();
+            direction = -reference_solve(model, cache, gradient);
+        }
         // Trust region: no corner moves by more than max_step (lattice units) in one step. Newton
         // steps near the minimum are far shorter; a longer one comes from a model far from
         // quadratic and could leave the physical basin (k_area < 0 is unbounded below).
@@ -365,6 +392,17 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
                 const double factorization_cost = a.factor_flops() / step_cost;
                 const double remaining = std::log(options.gradient_tolerance / trial_gnorm) / std::log(ratio);
                 exact = remaining > 3 * (factorization_cost + 1);
+            }
+        }
+        if (exact) {
+            history.clear();
+        } else {
+            Pair pair{trial - u, trial_gradient - gradient, 0.0};
+            const double sy = pair.s.dot(pair.y);
+            if (sy > 1e-12 * pair.s.norm() * pair.y.norm()) {
+                pair.rho = 1.0 / sy;
+                history.push_back(std::move(pair));
+                if (history.size() > 5) history.erase(history.begin());
             }
         }
         u = std::move(trial);
