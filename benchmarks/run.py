@@ -1,8 +1,9 @@
 """Run the benchmarks: ``python benchmarks/run.py [--quick] [--csv-dir DIR] [--no-profile] [--with-others]``.
 
-* ``bench_relax``     kernel vs numpy/scipy, one evaluation and full relaxations (disk R=10, 25);
-* ``profile_kernel``  phase split of the kernel's linear solve and L-BFGS (C++; the first run
-                      compiles two small binaries, ~1 min; skipped with --quick unless --profile);
+* ``bench_relax``     kernel vs numpy/scipy at the same accuracy: one evaluation and full
+                      relaxations of disks R = 10-100 and fibres of width 30 and 300;
+* ``profile_kernel``  where the engine's time goes (C++; the first run compiles one binary,
+                      ~40 s; skipped with --quick unless --profile);
 * ``bench_tradeoff``  relative energy error vs time for each method and tolerance.
 
 ``--with-others`` also runs the other ``bench_*.py`` scripts of this directory (Monte Carlo,
