@@ -117,8 +117,11 @@ def main(argv=None):
                 # Reference: the Newton minimum at REF_TOL, or any converged run of the sweep if
                 # that is lower (then flagged).
                 candidates = [(r.energy, r, "chain") for r in chain]
+                # (lower by more than round-off: 1e-13 relative)
+                floor = chain[0].energy * (1 - 1e-13) if chain else float("inf")
                 candidates += [(c["energy"], None, c["method"]) for c in config
-                               if c["converged"] and not c["diverged"] and c["method"] != "linear"]
+                               if c["converged"] and not c["diverged"] and c["method"] != "linear"
+                               and c["energy"] < floor]
                 e_ref, ref_run, source = min(candidates, key=lambda c: c[0]) if candidates else (
                     float("nan"), None, "none")
                 best_chain = min(chain, key=lambda r: r.energy) if chain else None
