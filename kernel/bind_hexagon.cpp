@@ -32,4 +32,6 @@ void export_hexagon(py::module_& m) {
             "Energy terms, gradient (12,) and Hessian (12, 12) of one particle from its corners "
             "(x0, y0, ..., x5, y5), slots at 30, 90, ..., 330 degrees, even slots red.");
     export_network_functions<HexagonModel>(m);
+    m.def("vectorised_evaluation_available", &vectorised_evaluation_available,
+          "Whether finite networks of hexagons are evaluated eight particles at a time (AVX-512 present).");
 }

@@ -34,15 +34,16 @@ void export_network_functions(pybind11::module_& m) {
         "Energy of the network at state x and its gradient (same layout as x).");
     m.def(
         "energy_of_displacement",
-        [](const Model& model, const Topology& t, const Vector& u) {
+        [](const Model& model, const Topology& t, const Vector& u, bool vectorised) {
             const Network<Model> net{model, t};
             check_state(net, u);
             Vector g;
-            const double e = net.energy(u, &g);
+            const double e = net.energy(u, &g, vectorised);
             return py::make_tuple(e, g);
         },
-        py::arg("model"), py::arg("topology"), py::arg("u"),
-        "Energy and gradient at the displacement u = x - reference_state (exact to round-off of the forces).");
+        py::arg("model"), py::arg("topology"), py::arg("u"), py::arg("vectorised") = true,
+        "Energy and gradient at the displacement u = x - reference_state (exact to round-off of the forces); "
+        "vectorised=False keeps to the scalar loop.");
     m.def(
         "hessian",
         [](const Model& model, const Topology& t, const Vector& u, bool exact) {

@@ -21,8 +21,10 @@ inline double spring(const CornerArray<N>& x, int a, int b, double k, double res
     const double length = d.norm();
     const double stretch = length - rest;
     if (grad || hess) {
-        // A spring of zero length has no direction; its force is then taken as zero.
-        const Eigen::Vector2d u = length > 0 ? Eigen::Vector2d(d / length) : Eigen::Vector2d::Zero();
+        // A spring of zero length has no direction; its force is then taken as zero. One
+        // reciprocal, not two divisions: HexagonModel::energy_lanes does the same, to the bit.
+        const double inverse = length > 0 ? 1.0 / length : 0.0;
+        const Eigen::Vector2d u = d * inverse;
         if (grad) {
             const Eigen::Vector2d f = k * stretch * u;
             grad->template segment<2>(2 * b) += f;
@@ -30,7 +32,7 @@ inline double spring(const CornerArray<N>& x, int a, int b, double k, double res
         }
         if (hess) {
             const Eigen::Matrix2d uu = u * u.transpose();
-            const double tension = length > 0 ? stretch / length : 0.0;
+            const double tension = stretch * inverse;
             const Eigen::Matrix2d h = k * (uu + tension * (Eigen::Matrix2d::Identity() - uu));
             hess->template block<2, 2>(2 * a, 2 * a) += h;
             hess->template block<2, 2>(2 * b, 2 * b) += h;

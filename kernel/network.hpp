@@ -161,6 +161,45 @@ struct HessianPattern {
     int local_size = 0;
 };
 
+// A model without a vectorised network evaluation (the overload a model header may declare,
+// like hexagon.hpp, is preferred by overload resolution): the scalar loop runs.
+template <class Model>
+bool vectorised_finite_energy(const Model&, const Topology&, const double*, double*, double&) {
+    return false;
+}
+
+// Energy and gradient of a finite network through Model::energy_lanes, kLanes particles at a
+// time: the same gathers, sums and scatters, in the same order, as the scalar loop of
+// Network::energy. Instantiated by the model's vectorised_finite_energy, compiled for a wide
+// vector unit (network_simd.cpp).
+template <class Model, int kLanes>
+double finite_energy_lanes(const Model& model, const Topology& t, const double* u, double* g) {
+    constexpr int C = Model::kCornerCount;
+    double x[2 * C][kLanes], lane_gradient[2 * C][kLanes], e[kLanes];
+    double total = 0.0;
+    const int n = t.n_particles();
+    for (int first = 0; first < n; first += kLanes) {
+        const int lanes = std::min(kLanes, n - first);
+        for (int l = 0; l < kLanes; ++l) {
+            const auto& ids = t.corner[first + (l < lanes ? l : 0)];  // spare lanes repeat a particle
+            for (int s = 0; s < C; ++s) {
+                x[2 * s][l] = t.slot_offset[s][0] + u[2 * ids[s]];
+                x[2 * s + 1][l] = t.slot_offset[s][1] + u[2 * ids[s] + 1];
+            }
+        }
+        model.template energy_lanes<kLanes>(x, lane_gradient, e);
+        for (int l = 0; l < lanes; ++l) {
+            const auto& ids = t.corner[first + l];
+            total += e[l];
+            for (int s = 0; s < C; ++s) {
+                g[2 * ids[s]] += lane_gradient[2 * s][l];
+                g[2 * ids[s] + 1] += lane_gradient[2 * s + 1][l];
+            }
+        }
+    }
+    return total;
+}
+
 template <class Model>
 struct Network {
     static constexpr int C = Model::kCornerCount;
@@ -199,8 +238,9 @@ struct Network {
         return model.energy(local_corners(u, map, p), nullptr);
     }
 
-    // Total energy at displacement u; writes dE/du into `gradient` when given.
-    double energy(const Vector& u, Vector* gradient) const {
+    // Total energy at displacement u; writes dE/du into `gradient` when given. vectorised =
+    // false keeps to the scalar loop (the vectorised one gives the same bits; tests compare).
+    double energy(const Vector& u, Vector* gradient, bool vectorised = true) const {
         const PeriodMap map = period_map(u);
         if (gradient) gradient->setZero(size());
         const int np = topology.n_particles();
@@ -213,6 +253,7 @@ struct Network {
         Corners local_gradient;
         if (topology.periodicity == Periodicity::None) {
             // A finite aggregate: no period map, corners gathered and forces scattered directly.
+            if (vectorised && vectorised_finite_energy(model, topology, u.data(), g, total)) return total;
             const double* ud = u.data();
             Corners c;
             for (int p = 0; p < np; ++p) {
