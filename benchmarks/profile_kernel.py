@@ -1,7 +1,7 @@
 """Where the relaxation engine's time goes, measured in C++ (``profile_kernel.cpp``).
 
 Builds ``profile_kernel.cpp`` against the kernel sources (``kernel/*.hpp``, ``topology.cpp``,
-``minimize.cpp``, ``cholesky.cpp``; g++ -O3 like the extension, NLopt and CHOLMOD from the system)
+``minimize.cpp``, ``cholesky.cpp``, ``network_simd.cpp``; g++ -O3 like the extension, NLopt and CHOLMOD from the system)
 into a cache directory, runs it on disks and prints, per radius: one energy + gradient (per
 particle), the one-off work of a topology (Hessian pattern, CHOLMOD's symbolic analysis), the
 work of a particle stiffness (assembly and numeric factorisation), one solve, and the cached
@@ -45,11 +45,15 @@ def _nlopt_lib():
 
 def build():
     """Compile (once per source state) and return the executable's path."""
-    sources = [HERE / "profile_kernel.cpp", KERNEL / "topology.cpp", KERNEL / "minimize.cpp", KERNEL / "cholesky.cpp"]
+    sources = [HERE / "profile_kernel.cpp", KERNEL / "topology.cpp", KERNEL / "minimize.cpp", KERNEL / "cholesky.cpp",
+               KERNEL / "network_simd.cpp"]
     digest = hashlib.sha256(b"".join(p.read_bytes() for p in sorted(KERNEL.glob("*.hpp")) + sources)).hexdigest()[:16]
     exe = _cache_dir() / f"profile_kernel-{digest}"
     if not exe.exists():
-        cmd = ["g++", "-O3", "-std=c++17", "-fopenmp", "-DPYFRUSTRATE_HAVE_OPENMP", f"-I{KERNEL}",
+        # The extension's flags (CMakeLists.txt); -ffp-contract=off, which it gives network_simd.cpp
+        # alone, changes nothing elsewhere (the baseline x86-64 has no fused multiply-add).
+        cmd = ["g++", "-O3", "-std=c++17", "-fno-math-errno", "-ffp-contract=off", "-fopenmp",
+               "-DPYFRUSTRATE_HAVE_OPENMP", f"-I{KERNEL}",
                "-I/usr/include/eigen3", "-I/usr/include/suitesparse", *map(str, sources),
                f"-l{_nlopt_lib()}", "-lcholmod", "-o", str(exe)]
         print("compiling:", " ".join(cmd[:3]), "...", flush=True)
