@@ -23,8 +23,8 @@ ASAN_LIB="$(g++ -print-file-name=libasan.so)"
 UBSAN_LIB="$(g++ -print-file-name=libubsan.so)"
 cd "$ROOT"
 if [ "$#" -eq 0 ]; then
-  set -- tests/test_extremes.py tests/test_hexagon.py tests/test_topology.py tests/test_montecarlo.py \
-    tests/test_random_particles.py
+  set -- tests/test_extremes.py tests/test_relaxation_engine.py tests/test_hexagon.py tests/test_topology.py \
+    tests/test_montecarlo.py tests/test_random_particles.py
 fi
 LD_PRELOAD="$ASAN_LIB:$UBSAN_LIB" \
 ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:strict_string_checks=1" \
