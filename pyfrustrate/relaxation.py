@@ -4,11 +4,12 @@ Methods, a speed/accuracy knob:
 
 ``"auto"``    (default) the fastest exact method for the scene, chosen by measurement: ``"newton"``
               (see ``AUTO_METHOD`` and benchmarks/README.md).
-``"newton"``  the nonlinear minimum to ``tol``, down to round-off: Newton steps with the
-              factorised eps = 0 stiffness while they contract fast, then with the exact Hessian
-              (the period map's curvature included), each with a line search that guarantees
-              descent. CHOLMOD's supernodal Cholesky; its symbolic analysis is made once per
-              topology (``StiffnessCache``).
+``"newton"``  the nonlinear minimum to ``tol``, down to round-off: from the linear response,
+              quasi-Newton steps on the factorised eps = 0 stiffness while they are cheaper,
+              then exact-Hessian steps (the period map's curvature included; damped where the
+              Hessian is indefinite), each with a line search that guarantees descent; strongly
+              nonlinear scenes go to L-BFGS and back. CHOLMOD's supernodal Cholesky; its
+              symbolic analysis is made once per topology (``StiffnessCache``).
 ``"lbfgs"``   NLopt's L-BFGS on the full nonlinear energy, to a gradient tolerance; when NLopt
               stops short of it (ftol, xtol, roundoff) Newton steps finish the job, and the
               result's ``status`` says which did the work.
