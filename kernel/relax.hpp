@@ -22,6 +22,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -107,6 +108,7 @@ class StiffnessCache {
     }
 
     std::shared_ptr<CholeskyAnalysis> analysis() const { return analysis_; }
+    std::recursive_mutex& mutex() { return mutex_; }
 
     // The factorised eps = 0 stiffness of `model`'s particle on this topology.
     template <class Model>
@@ -155,14 +157,19 @@ class StiffnessCache {
     std::unique_ptr<CholeskyFactor> reference_;
     std::vector<double> reference_key_;
     int reference_factorizations_ = 0;
+    std::recursive_mutex mutex_;
 };
 
 // The cache a call uses: the caller's, or one of its own.
+// A given cache is locked for the call: relaxations release Python's GIL, and two threads
+// sharing a cache take turns instead of racing on its factors (recursive: relax_newton hands its
+// cache on to relax_lbfgs).
 class CacheHandle {
    public:
     CacheHandle(const Topology& t, StiffnessCache* given) {
         if (given && &given->topology() != &t)
             throw std::invalid_argument("cache: it was made for another topology");
+        if (given) lock_ = std::unique_lock<std::recursive_mutex>(given->mutex());
         if (!given) own_ = std::make_unique<StiffnessCache>(t);
         cache_ = given ? given : own_.get();
     }
@@ -170,6 +177,7 @@ class CacheHandle {
     StiffnessCache* operator->() const { return cache_; }
 
    private:
+    std::unique_lock<std::recursive_mutex> lock_;
     std::unique_ptr<StiffnessCache> own_;
     StiffnessCache* cache_;
 };

@@ -40,8 +40,8 @@ class StiffnessCache:
     """What repeated relaxations of one topology reuse: the sparsity pattern of its Hessian,
     CHOLMOD's symbolic analysis (fill-reducing ordering, supernodes) and the factorised eps = 0
     stiffness of the last particle stiffness it served (refactorised, numerically only, when
-    another particle comes). The caller owns it; pass it as ``relax(..., cache=...)``. Not to be
-    shared between threads.
+    another particle comes). The caller owns it; pass it as ``relax(..., cache=...)``. Threads
+    sharing one take turns (each relaxation holds it for its duration).
     """
 
     def __init__(self, topology: Topology):

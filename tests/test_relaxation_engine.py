@@ -102,3 +102,17 @@ def test_vectorised_evaluation_gives_the_scalar_bits(name, R):
     e_vector, g_vector = _kernel.energy_of_displacement(p._kernel_model, topo.kernel, u, vectorised=True)
     assert e_vector == e_scalar
     assert np.array_equal(g_vector, g_scalar)
+
+
+def test_threads_sharing_a_cache_take_turns():
+    # Relaxations release the GIL; a shared StiffnessCache is locked per call, so concurrent
+    # relaxations of one topology give exactly the results of sequential ones.
+    from concurrent.futures import ThreadPoolExecutor
+
+    topo = T.disk(8)
+    cache = pf.StiffnessCache(topo)
+    particles = [pf.Hexagon.from_continuum(5, 0.5, eps) for eps in (0.005, 0.01, 0.02, 0.03)] * 3
+    expected = [pf.relax(p, topo, tol=1e-10).energy for p in particles]
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        got = list(pool.map(lambda p: pf.relax(p, topo, tol=1e-10, cache=cache).energy, particles))
+    assert got == expected
