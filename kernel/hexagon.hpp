@@ -31,12 +31,39 @@ struct HexagonModel {
             throw std::invalid_argument("k_area must be finite and exceed -sqrt(3) k (unstable sheet otherwise), got " +
                                         std::to_string(k_area));
         if (!(eps >= 0 && eps < 1)) throw std::invalid_argument("eps must lie in [0, 1)");
-        yellow_ = 1 + eps;
-        red_ = 1 - eps;
-        // Hexagon side at rest: corners at radii yellow/sqrt3 and red/sqrt3, 60 degrees apart.
-        side_ = std::sqrt((yellow_ * yellow_ + red_ * red_ - yellow_ * red_) / 3.0);
-        yellow_area_ = std::sqrt(3.0) / 4.0 * yellow_ * yellow_;
-        red_area_ = std::sqrt(3.0) / 4.0 * red_ * red_;
+        // Rest lengths and areas as the reference (eps = 0) value plus what the mismatch adds,
+        // each addition formed without cancellation (elements.hpp). Triangle sides 1 +- eps; the
+        // hexagon side, corners at radii (1 +- eps)/sqrt3 60 degrees apart, is
+        // sqrt((1 + 3 eps^2) / 3) = 1/sqrt3 + eps^2 / (side + 1/sqrt3); areas sqrt3/4 (1 +- eps)^2.
+        const double side = std::sqrt((1 + 3 * eps * eps) / 3.0);
+        side_nominal_ = 1 / std::sqrt(3.0);
+        side_delta_ = eps * eps / (side + side_nominal_);
+        area_nominal_ = std::sqrt(3.0) / 4.0;
+        yellow_area_delta_ = area_nominal_ * eps * (2 + eps);
+        red_area_delta_ = area_nominal_ * eps * (eps - 2);
+        rest_ = rest_corners();
+        for (int i = 0; i < kSprings; ++i) {
+            edge0_[i] = rest_.segment<2>(2 * kTo[i]) - rest_.segment<2>(2 * kFrom[i]);
+            length0_[i] = edge0_[i].norm();
+        }
+    }
+
+    // The twelve springs in the order terms() sums them: yellow and red triangle sides
+    // alternately, then the six hexagon sides (slot s to s + 1).
+    static constexpr int kSprings = 12;
+    static constexpr int kFrom[kSprings] = {1, 0, 3, 2, 5, 4, 0, 1, 2, 3, 4, 5};
+    static constexpr int kTo[kSprings] = {3, 2, 5, 4, 1, 0, 1, 2, 3, 4, 5, 0};
+
+    // Corners of the particle at rest without mismatch, in its own frame (slots as in
+    // topology.hpp: radius 1/sqrt3, 30 + 60 s degrees): the reference of energy(x).
+    static Corners rest_corners() {
+        Corners c;
+        for (int s = 0; s < 6; ++s) {
+            const double angle = M_PI / 6 + s * M_PI / 3;
+            c[2 * s] = std::cos(angle) / std::sqrt(3.0);
+            c[2 * s + 1] = std::sin(angle) / std::sqrt(3.0);
+        }
+        return c;
     }
 
     // Typical corner displacement of a relaxation: the mismatch (at least a small floor).
@@ -51,47 +78,59 @@ struct HexagonModel {
         double total() const { return triangles + connecting + area; }
     };
 
-    // The energy by terms, with gradient and Hessian on request (elements.hpp).
-    Terms terms(const Corners& x, Corners* grad = nullptr, Hessian* hess = nullptr) const {
+    // The energy by terms of the particle whose corners are displaced by disp from rest_corners()
+    // (its own frame), with gradient and Hessian on request (elements.hpp).
+    Terms terms_of_displacement(const Corners& disp, Corners* grad = nullptr, Hessian* hess = nullptr) const {
         Terms t;
-        for (int m = 0; m < 3; ++m) {
-            t.triangles += spring<6>(x, 2 * m + 1, (2 * m + 3) % 6, k, yellow_, grad, hess);
-            t.triangles += spring<6>(x, 2 * m, (2 * m + 2) % 6, k, red_, grad, hess);
-        }
-        for (int s = 0; s < 6; ++s) t.connecting += spring<6>(x, s, (s + 1) % 6, kc, side_, grad, hess);
+        for (int i = 0; i < 6; ++i)
+            t.triangles += spring<6>(disp, kFrom[i], kTo[i], edge0_[i], length0_[i], k, 1.0, i % 2 == 0 ? eps : -eps,
+                                     grad, hess);
+        for (int i = 6; i < kSprings; ++i)
+            t.connecting += spring<6>(disp, kFrom[i], kTo[i], edge0_[i], length0_[i], kc, side_nominal_, side_delta_,
+                                      grad, hess);
         if (k_area != 0) {
-            t.area += triangle_area<6>(x, 1, 3, 5, k_area, yellow_area_, grad, hess);
-            t.area += triangle_area<6>(x, 0, 2, 4, k_area, red_area_, grad, hess);
+            t.area += triangle_area<6>(rest_, disp, 1, 3, 5, k_area, area_nominal_, yellow_area_delta_, grad, hess);
+            t.area += triangle_area<6>(rest_, disp, 0, 2, 4, k_area, area_nominal_, red_area_delta_, grad, hess);
         }
         return t;
     }
 
+    // The same from absolute corners x (any frame).
+    Terms terms(const Corners& x, Corners* grad = nullptr, Hessian* hess = nullptr) const {
+        return terms_of_displacement(Corners(x - rest_), grad, hess);
+    }
+
+    double energy_of_displacement(const Corners& disp, Corners* grad, Hessian* hess = nullptr) const {
+        return terms_of_displacement(disp, grad, hess).total();
+    }
     double energy(const Corners& x, Corners* grad, Hessian* hess = nullptr) const {
         return terms(x, grad, hess).total();
     }
 
-    // energy() with gradient on kLanes particles at once, in structure-of-arrays layout (x[c][l]:
-    // coordinate c = x0, y0, ..., y5 of particle l), so that a vector unit evaluates one term
+    // energy_of_displacement() with gradient on kLanes particles at once, their displacements in
+    // structure-of-arrays layout (x[c][l]: coordinate c = x0, y0, ..., y5 of particle l), so that a vector unit evaluates one term
     // for kLanes particles per instruction (network_simd.cpp). Every operation mirrors terms()
     // in kind and order (no fused multiply-add there), so the sums are equal to the last bit:
     // tests/test_relaxation_engine.py checks it.
     template <int kLanes>
     void energy_lanes(const double (&x)[12][kLanes], double (&g)[12][kLanes], double (&e)[kLanes]) const {
-        constexpr int from[12] = {1, 0, 3, 2, 5, 4, 0, 1, 2, 3, 4, 5};  // the order of terms()
-        constexpr int to[12] = {3, 2, 5, 4, 1, 0, 1, 2, 3, 4, 5, 0};
-        const double rest[12] = {yellow_, red_, yellow_, red_, yellow_, red_, side_, side_, side_, side_, side_, side_};
         double triangles[kLanes] = {}, connecting[kLanes] = {}, area[kLanes] = {};
         for (int c = 0; c < 12; ++c)
             for (int l = 0; l < kLanes; ++l) g[c][l] = 0.0;
-        for (int i = 0; i < 12; ++i) {
-            const double stiffness = i < 6 ? k : kc;
-            const int a = from[i], b = to[i];
-            double* sum = i < 6 ? triangles : connecting;
+        for (int i = 0; i < kSprings; ++i) {
+            const bool triangle = i < 6;
+            const double stiffness = triangle ? k : kc, nominal = triangle ? 1.0 : side_nominal_;
+            const double delta = triangle ? (i % 2 == 0 ? eps : -eps) : side_delta_;
+            const int a = kFrom[i], b = kTo[i];
+            const double d0x = edge0_[i].x(), d0y = edge0_[i].y(), length0 = length0_[i];
+            const double offset = length0 - nominal;
+            double* sum = triangle ? triangles : connecting;
             for (int l = 0; l < kLanes; ++l) {
-                const double dx = x[2 * b][l] - x[2 * a][l], dy = x[2 * b + 1][l] - x[2 * a + 1][l];
+                const double ddx = x[2 * b][l] - x[2 * a][l], ddy = x[2 * b + 1][l] - x[2 * a + 1][l];
+                const double dx = d0x + ddx, dy = d0y + ddy;
                 const double length = std::sqrt(dx * dx + dy * dy);
-                const double stretch = length - rest[i];
                 const double inverse = length > 0 ? 1.0 / length : 0.0;
+                const double stretch = length_change(d0x, d0y, ddx, ddy, length, inverse, length0) + offset - delta;
                 const double ux = dx * inverse, uy = dy * inverse;
                 const double f = stiffness * stretch;
                 g[2 * b][l] += f * ux, g[2 * b + 1][l] += f * uy;
@@ -101,19 +140,27 @@ struct HexagonModel {
         }
         if (k_area != 0) {
             const int corners[2][3] = {{1, 3, 5}, {0, 2, 4}};
-            const double rest_area[2] = {yellow_area_, red_area_};
+            const double area_delta[2] = {yellow_area_delta_, red_area_delta_};
+            const Corners& ref = rest_;
             for (int t = 0; t < 2; ++t) {
-                const double scale = k_area / rest_area[t];
                 const int* idx = corners[t];
+                const double scale = k_area / (area_nominal_ + area_delta[t]);
+                const double ab0x = ref[2 * idx[1]] - ref[2 * idx[0]], ab0y = ref[2 * idx[1] + 1] - ref[2 * idx[0] + 1];
+                const double ac0x = ref[2 * idx[2]] - ref[2 * idx[0]], ac0y = ref[2 * idx[2] + 1] - ref[2 * idx[0] + 1];
+                const double offset = 0.5 * (ab0x * ac0y - ab0y * ac0x) - area_nominal_;
                 for (int l = 0; l < kLanes; ++l) {
-                    const double abx = x[2 * idx[1]][l] - x[2 * idx[0]][l], aby = x[2 * idx[1] + 1][l] - x[2 * idx[0] + 1][l];
-                    const double acx = x[2 * idx[2]][l] - x[2 * idx[0]][l], acy = x[2 * idx[2] + 1][l] - x[2 * idx[0] + 1][l];
-                    const double excess = 0.5 * (abx * acy - aby * acx) - rest_area[t];
+                    const double dabx = x[2 * idx[1]][l] - x[2 * idx[0]][l], daby = x[2 * idx[1] + 1][l] - x[2 * idx[0] + 1][l];
+                    const double dacx = x[2 * idx[2]][l] - x[2 * idx[0]][l], dacy = x[2 * idx[2] + 1][l] - x[2 * idx[0] + 1][l];
+                    const double excess = offset - area_delta[t] +
+                                          0.5 * ((ab0x * dacy - ab0y * dacx) + (dabx * ac0y - daby * ac0x) +
+                                                 (dabx * dacy - daby * dacx));
                     const double force = scale * excess;
                     for (int m = 0; m < 3; ++m) {
                         const int q = idx[(m + 1) % 3], r = idx[(m + 2) % 3];
-                        g[2 * idx[m]][l] += force * (0.5 * (x[2 * q + 1][l] - x[2 * r + 1][l]));
-                        g[2 * idx[m] + 1][l] += force * (0.5 * (x[2 * r][l] - x[2 * q][l]));
+                        const double rqx = (ref[2 * q] - ref[2 * r]) + (x[2 * q][l] - x[2 * r][l]);
+                        const double rqy = (ref[2 * q + 1] - ref[2 * r + 1]) + (x[2 * q + 1][l] - x[2 * r + 1][l]);
+                        g[2 * idx[m]][l] += force * (0.5 * rqy);
+                        g[2 * idx[m] + 1][l] += force * (-0.5 * rqx);
                     }
                     area[l] += 0.5 * scale * excess * excess;
                 }
@@ -123,8 +170,12 @@ struct HexagonModel {
     }
 
    private:
-    // Rest shape, computed once per particle model rather than once per evaluation.
-    double yellow_ = 1, red_ = 1, side_ = 1, yellow_area_ = 0, red_area_ = 0;
+    // Rest lengths and areas as nominal (eps = 0) value + delta, and the reference shape's
+    // corners, spring edges and lengths: computed once per model.
+    double side_nominal_ = 0, side_delta_ = 0, area_nominal_ = 0, yellow_area_delta_ = 0, red_area_delta_ = 0;
+    Corners rest_ = Corners::Zero();
+    Eigen::Vector2d edge0_[kSprings];
+    double length0_[kSprings] = {};
 };
 
 // Energy and gradient of a finite network of hexagons, eight particles per instruction where the

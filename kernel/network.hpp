@@ -5,10 +5,11 @@
 //
 // Degrees of freedom. The public state is x = (corner 0 (x, y), corner 1 (x, y), ..., period-map
 // parameters); the network works on the displacement u = x - x_ref from the bulk reference
-// (Topology::reference_state). A particle is evaluated in its own frame: slot offset plus the
-// displacements of its corners (and of their periodic images). No coordinate of the size of the
-// aggregate enters a force, so the forces keep their digits at R = 100 or a fibre of width
-// 1000 (in absolute coordinates a force of a relaxation at eps loses |x| / eps of them).
+// (Topology::reference_state). A particle is evaluated in its own frame from the displacements
+// of its corners (and of their periodic images) from its rest shape, which the model keeps apart
+// from that shape (Model::energy_of_displacement, elements.hpp). No coordinate of the size of the
+// aggregate enters a force, and no stretch is formed as a difference of numbers of size 1, so
+// the forces keep their digits at R = 100, a fibre of width 1000 or eps = 1e-8.
 //
 // The period map sends a corner of the cell to its image n:
 //   fibre, straight:  r + n t
@@ -183,8 +184,8 @@ double finite_energy_lanes(const Model& model, const Topology& t, const double* 
         for (int l = 0; l < kLanes; ++l) {
             const auto& ids = t.corner[first + (l < lanes ? l : 0)];  // spare lanes repeat a particle
             for (int s = 0; s < C; ++s) {
-                x[2 * s][l] = t.slot_offset[s][0] + u[2 * ids[s]];
-                x[2 * s + 1][l] = t.slot_offset[s][1] + u[2 * ids[s] + 1];
+                x[2 * s][l] = u[2 * ids[s]];
+                x[2 * s + 1][l] = u[2 * ids[s] + 1];
             }
         }
         model.template energy_lanes<kLanes>(x, lane_gradient, e);
@@ -221,21 +222,33 @@ struct Network {
         return false;
     }
 
-    // Corners of particle p in its own frame (slot offsets plus displacements).
-    Corners local_corners(const Vector& u, const PeriodMap& map, int p) const {
+    // The particles' reference corners in their own frame: the slot offsets, the lattice's
+    // view of the model's rest shape without mismatch (tests check that the two agree).
+    Corners reference_corners() const {
+        Corners c;
+        for (int s = 0; s < C; ++s) c.template segment<2>(2 * s) = topology.slot_offset[s];
+        return c;
+    }
+
+    // Displacements of the corners particle p sees (periodic images applied), in its own frame.
+    Corners local_displacements(const Vector& u, const PeriodMap& map, int p) const {
         Corners c;
         const auto& ids = topology.corner[p];
         const auto& images = topology.image[p];
         for (int s = 0; s < C; ++s) {
             const Vec2 ui = u.template segment<2>(2 * ids[s]);
-            c.template segment<2>(2 * s) =
-                topology.slot_offset[s] + map.displacement(images[s], topology.reference[ids[s]], ui);
+            c.template segment<2>(2 * s) = map.displacement(images[s], topology.reference[ids[s]], ui);
         }
         return c;
     }
 
+    // Corners of particle p in its own frame (slot offsets plus displacements), for drawing.
+    Corners local_corners(const Vector& u, const PeriodMap& map, int p) const {
+        return reference_corners() + local_displacements(u, map, p);
+    }
+
     double particle_energy(const Vector& u, const PeriodMap& map, int p) const {
-        return model.energy(local_corners(u, map, p), nullptr);
+        return model.energy_of_displacement(local_displacements(u, map, p), nullptr);
     }
 
     // Total energy at displacement u; writes dE/du into `gradient` when given. vectorised =
@@ -246,7 +259,7 @@ struct Network {
         const int np = topology.n_particles();
         double total = 0.0;
         if (!gradient) {
-            for (int p = 0; p < np; ++p) total += model.energy(local_corners(u, map, p), nullptr);
+            for (int p = 0; p < np; ++p) total += model.energy_of_displacement(local_displacements(u, map, p), nullptr);
             return total;
         }
         double* g = gradient->data();
@@ -259,11 +272,11 @@ struct Network {
             for (int p = 0; p < np; ++p) {
                 const auto& ids = topology.corner[p];
                 for (int s = 0; s < C; ++s) {
-                    c[2 * s] = topology.slot_offset[s][0] + ud[2 * ids[s]];
-                    c[2 * s + 1] = topology.slot_offset[s][1] + ud[2 * ids[s] + 1];
+                    c[2 * s] = ud[2 * ids[s]];
+                    c[2 * s + 1] = ud[2 * ids[s] + 1];
                 }
                 local_gradient.setZero();
-                total += model.energy(c, &local_gradient);
+                total += model.energy_of_displacement(c, &local_gradient);
                 for (int s = 0; s < C; ++s) {
                     g[2 * ids[s]] += local_gradient[2 * s];
                     g[2 * ids[s] + 1] += local_gradient[2 * s + 1];
@@ -276,9 +289,9 @@ struct Network {
         const int nc2 = n_corner_dof(), npp = topology.n_period_parameters();
         for (int p = 0; p < np; ++p) {
             const auto& ids = topology.corner[p];
-            const Corners c = local_corners(u, map, p);
+            const Corners c = local_displacements(u, map, p);
             local_gradient.setZero();
-            total += model.energy(c, &local_gradient);
+            total += model.energy_of_displacement(c, &local_gradient);
             const auto& images = topology.image[p];
             for (int s = 0; s < C; ++s) {
                 const Vec2 gs = local_gradient.template segment<2>(2 * s);
@@ -360,10 +373,10 @@ struct Network {
         Mat2 d_corner;
         PeriodJacobian d_period;
         for (int p = 0; p < topology.n_particles(); ++p) {
-            const Corners c = local_corners(u, map, p);
+            const Corners c = local_displacements(u, map, p);
             ParticleHessian h = ParticleHessian::Zero();
             Corners f = Corners::Zero();
-            model.energy(c, exact ? &f : nullptr, &h);
+            model.energy_of_displacement(c, exact ? &f : nullptr, &h);
             if (!has_image(p)) {
                 local.template topLeftCorner<2 * C, 2 * C>() = h;
             } else {

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "elements.hpp"
+#include "hexagon.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -47,6 +48,33 @@ struct RandomHexagonModel {
 
     double step_scale() const { return std::max(eps, 1e-3); }
 
+    // The nine distances of the rest shape without mismatch (HexagonModel::rest_corners()): edges
+    // and lengths computed once; rest distances as nominal + what eps adds (+eps, -eps, or for the
+    // hexagon sides eps^2 / (side + 1/sqrt3), side = sqrt((1 + 3 eps^2) / 3)).
+    struct Reference {
+        Eigen::Vector2d edge[9];
+        double length[9], nominal[9], eps_coefficient[9];
+        bool hexagon_side[9];
+        double side_delta(double e, int i) const {
+            return hexagon_side[i] ? e * e / (std::sqrt((1 + 3 * e * e) / 3.0) + nominal[i]) : 0.0;
+        }
+    };
+    static const Reference& reference() {
+        static const Reference r = [] {
+            Reference out;
+            const Corners rest = HexagonModel::rest_corners();
+            for (int i = 0; i < 9; ++i) {
+                out.edge[i] = rest.segment<2>(2 * kPairs[i][1]) - rest.segment<2>(2 * kPairs[i][0]);
+                out.length[i] = out.edge[i].norm();
+                out.hexagon_side[i] = i >= 6;
+                out.nominal[i] = i >= 6 ? 1 / std::sqrt(3.0) : 1.0;
+                out.eps_coefficient[i] = i < 3 ? 1.0 : (i < 6 ? -1.0 : 0.0);
+            }
+            return out;
+        }();
+        return r;
+    }
+
     RandomHexagonModel without_mismatch() const { return RandomHexagonModel(M, 0.0); }
 
     // d0: triangle sides 1 + eps (yellow) and 1 - eps (red); hexagon sides as in HexagonModel.
@@ -65,17 +93,30 @@ struct RandomHexagonModel {
         return d;
     }
 
+    // The energy from absolute corners x (any frame): the same hexagon at rest as HexagonModel.
     double energy(const Corners& x, Corners* grad, Hessian* hess = nullptr) const {
+        return energy_of_displacement(Corners(x - HexagonModel::rest_corners()), grad, hess);
+    }
+
+    // The energy of the particle displaced by disp from HexagonModel::rest_corners() (its own
+    // frame). Each distance's departure from its rest value is formed as in elements.hpp's
+    // spring, from the reference edge and the displacement difference: exact at small eps.
+    double energy_of_displacement(const Corners& disp, Corners* grad, Hessian* hess = nullptr) const {
         Vector9 stretch;
         Eigen::Vector2d unit[9];
         double length[9];
-        const Vector9 d0 = rest_distances();
+        const Reference& r = reference();
         for (int i = 0; i < 9; ++i) {
-            const Eigen::Vector2d v = x.segment<2>(2 * kPairs[i][1]) - x.segment<2>(2 * kPairs[i][0]);
+            const int a = kPairs[i][0], b = kPairs[i][1];
+            const Eigen::Vector2d& d0 = r.edge[i];
+            const Eigen::Vector2d dd = disp.segment<2>(2 * b) - disp.segment<2>(2 * a);
+            const Eigen::Vector2d v = d0 + dd;
             length[i] = v.norm();
             // A distance of zero has no direction; its derivative is then taken as zero.
-            unit[i] = length[i] > 0 ? Eigen::Vector2d(v / length[i]) : Eigen::Vector2d::Zero();
-            stretch(i) = length[i] - d0(i);
+            const double inverse = length[i] > 0 ? 1.0 / length[i] : 0.0;
+            unit[i] = v * inverse;
+            stretch(i) = length_change(d0.x(), d0.y(), dd.x(), dd.y(), length[i], inverse, r.length[i]) +
+                         (r.length[i] - r.nominal[i]) - eps * r.eps_coefficient[i] - r.side_delta(eps, i);
         }
         const Vector9 force = M * stretch;  // dE/dd
         if (grad)

@@ -116,10 +116,8 @@ class StiffnessCache {
         const Model rest_model = model.without_mismatch();
         const Network<Model> rest{rest_model, topology_};
         const HessianPattern& pat = pattern(rest);
-        typename Model::Corners corners;
-        for (int s = 0; s < Model::kCornerCount; ++s) corners.template segment<2>(2 * s) = topology_.slot_offset[s];
         typename Model::Hessian h = Model::Hessian::Zero();
-        rest_model.energy(corners, nullptr, &h);
+        rest_model.energy_of_displacement(Model::Corners::Zero(), nullptr, &h);
         const std::vector<double> key(h.data(), h.data() + h.size());
         if (reference_ && key == reference_key_) return *reference_;
         reference_ = std::make_unique<CholeskyFactor>(analysis_);

@@ -116,3 +116,21 @@ def test_threads_sharing_a_cache_take_turns():
     with ThreadPoolExecutor(max_workers=4) as pool:
         got = list(pool.map(lambda p: pf.relax(p, topo, tol=1e-10, cache=cache).energy, particles))
     assert got == expected
+
+
+@pytest.mark.parametrize("eps", [1e-8, 1e-5, 0.02])
+def test_energy_at_the_reference_state_is_exact_at_small_eps(eps):
+    # Every particle at the regular (eps = 0) shape: triangle sides 1 against rest lengths 1 +- eps,
+    # hexagon sides 1/sqrt3 against sqrt((1 + 3 eps^2)/3), triangle areas sqrt3/4 against
+    # sqrt3/4 (1 +- eps)^2. The kernel forms these from the geometry; at eps = 1e-8 a stretch
+    # formed as a difference of lengths of size 1 would keep only 8 digits.
+    p = pf.Hexagon.from_continuum(ell=4, nu=0.6, eps=eps)
+    side = np.sqrt((1 + 3 * eps**2) / 3)
+    a0 = np.sqrt(3) / 4
+    # (differences written without cancellation: side - 1/sqrt3 = eps^2 / (side + 1/sqrt3), and
+    # a0 (1 + s eps)^2 - a0 = a0 s eps (2 + s eps))
+    per_particle = (3 * p.k * eps**2 + 3 * p.kc * (eps**2 / (side + 1 / np.sqrt(3)))**2
+                    + sum(p.k_area * (a0 * s * eps * (2 + s * eps))**2 / (2 * a0 * (1 + s * eps)**2) for s in (1, -1)))
+    topo = T.disk(3)
+    e, _ = _kernel.energy_of_displacement(p._kernel_model, topo.kernel, np.zeros(topo.reference_state().size))
+    assert e == pytest.approx(topo.n_particles * per_particle, rel=1e-12)
