@@ -146,8 +146,12 @@ def main(argv=None):
         print(f"  one energy+gradient: kernel {fmt_time(k_min)} ({k_min / topo.n_particles * 1e9:.0f} ns/particle), "
               f"numpy {fmt_time(n_min)}: {n_min / k_min:.1f}x")
         with warnings.catch_warnings():
-            warnings.simplefilter("error", pf.ConvergenceWarning)
+            # The reference may stop at the forces' round-off (1.4e-12 F at R = 100): its energy
+            # is then exact to ~1e-25 relative, which is all a reference needs.
+            warnings.simplefilter("ignore", pf.ConvergenceWarning)
             reference = pf.relax(p, topo, method="newton", tol=1e-12).energy
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", pf.ConvergenceWarning)
             big = x0.size > 50_000
             times, results, tols = run_paths(p, topo, 2 if big else repeats, 1 if big else repeats, reference)
         base_min = min(times["scipy L-BFGS-B"])
