@@ -46,9 +46,9 @@ struct Topology {
     Vec2 pivot = Vec2::Zero();
     double bend_scale = 1.0;
     // Bulk-reference position of each corner slot relative to its particle's site, the same
-    // for every particle. The network evaluates a particle in its own frame, slot_offset plus
-    // the corners' displacements, so that no coordinate of the size of the aggregate enters
-    // the forces (they would lose digits as the aggregate grows; see network.hpp).
+    // for every particle: the regular hexagon that the particle models take as their rest shape
+    // (HexagonModel::rest_corners; tests check that they agree). The network evaluates particles
+    // from their corners' displacements alone; these place them for drawing (network.hpp).
     std::array<Vec2, kCorners> slot_offset{};
     int max_image = 0;                        // largest |image index| of any slot
 

@@ -134,3 +134,19 @@ def test_energy_at_the_reference_state_is_exact_at_small_eps(eps):
     topo = T.disk(3)
     e, _ = _kernel.energy_of_displacement(p._kernel_model, topo.kernel, np.zeros(topo.reference_state().size))
     assert e == pytest.approx(topo.n_particles * per_particle, rel=1e-12)
+
+
+def test_lattice_slots_are_the_particles_rest_shape():
+    # The topology places a particle's corners (slot offsets from its site) where the models take
+    # their rest shape without mismatch: a regular hexagon of circumradius 1/sqrt3, corners at
+    # 30, 90, ..., 330 degrees. Both must agree, or a particle at rest would be prestressed.
+    topo = T.disk(0)
+    p = PARTICLES["hexagon"]
+    corners = pf.relaxation.particle_corners(p, topo, topo.reference_state())[0]
+    angles = np.radians(30 + 60 * np.arange(6))
+    regular = np.stack([np.cos(angles), np.sin(angles)], axis=1) / np.sqrt(3)
+    assert np.abs(corners - regular).max() < 1e-15
+    # and the model's energy there, displacement zero, is the mismatch energy alone (no prestress
+    # from a misplaced corner): equal evaluated from the absolute corners and from the network.
+    e_network, _ = _kernel.energy_of_displacement(p._kernel_model, topo.kernel, np.zeros(12))
+    assert p.evaluate(regular)["energy"] == pytest.approx(e_network, rel=1e-14)
