@@ -2,9 +2,10 @@
 //
 //   relax_linear   one solve with the eps = 0 reference stiffness: the linear response, exact as
 //                  eps -> 0 (energy error O(eps^2) relative)
-//   relax_newton   the nonlinear minimum to round-off: Newton steps with the reference stiffness
-//                  while they contract fast, then with the exact Hessian (period-map curvature
-//                  included), each step with a backtracking line search that guarantees descent
+//   relax_newton   the nonlinear minimum to round-off: quasi-Newton steps on the reference
+//                  stiffness while they are the cheaper way, then the exact Hessian (period-map
+//                  curvature included, damped where indefinite), each step with a backtracking
+//                  line search that guarantees descent; strongly nonlinear scenes go to L-BFGS
 //   relax_lbfgs    NLopt's L-BFGS (the design's named minimiser); when it stops short of the
 //                  tolerance (ftol, xtol, roundoff), Newton steps finish the job
 //
