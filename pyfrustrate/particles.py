@@ -24,7 +24,8 @@ class Hexagon:
         Stiffness of each of the six connecting springs (the hexagon's sides).
     k_area : float
         Areal stiffness of each triangle, energy ``k_area (A - A0)^2 / (2 A0)``. May be negative
-        down to ``-sqrt(3) k`` (exclusive): Poisson ratios below 1/3 need it (NOTES.md).
+        down to ``-sqrt(3) k`` (exclusive): Poisson ratios below 1/3 need it (``from_continuum``:
+        ``k_area = sqrt(3) k (3 nu - 1) / (2 (1 - nu))``).
     eps : float
         Mismatch, in (0, 1).
 

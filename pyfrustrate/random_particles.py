@@ -12,7 +12,7 @@ Three ways to look at one matrix, from cheap to costly:
                              predictors ``ell_pred`` (via main text Eq. 11) and ``ell_eigen``.
 ``boundary_layer_length``    the decay length of the slowest collective mode of a half-plane in
                              linear response, exactly, from the layer-to-layer transfer problem
-                             (a 16 x 16 eigenvalue problem; NOTES.md).
+                             (a 16 x 16 eigenvalue problem; ``transfer_roots``).
 ``fitted_boundary_layer_length``
                              the paper's route (Fig. 5b): relax a wide strip and fit the decay
                              of the excess energy per particle away from an edge.
@@ -390,7 +390,7 @@ def fitted_boundary_layer_length(particle, window=(3.0, 8.0), width=None, iterat
     log-linear fit of the excess energy per particle against the distance from a strip's edge
     (``edge_energy_profile``), over ``window`` in units of the length itself, iterated to a
     fixed point from ``ell_pred``. Near the edge the excess is a sum of decaying modes (for the
-    simple particle ``exp(-d/ell) - exp(-2 d/ell)``, NOTES.md), so a window that starts too
+    simple particle ``exp(-d/ell) - exp(-2 d/ell)``), so a window that starts too
     close overestimates; for small ell a window holds few rows and the fit is coarse.
     Compare ``boundary_layer_length`` (exact slowest mode)."""
     lo, hi = window

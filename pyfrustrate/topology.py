@@ -5,7 +5,8 @@ Sites ``(i, j)`` sit at ``i a1 + j a2`` with ``a1 = (1, 0)``, ``a2 = (1/2, sqrt(
 (lattice spacing 1, area ``sqrt(3)/2`` per particle). Model only what the scene requires: an
 infinite fibre is one period of the strip, an infinite bulk one cell of the plane.
 
-Fibre cuts (Fig. 4a has three kinds of fibres; NOTES.md leaves the third to us):
+Fibre cuts (Fig. 4a has three kinds of fibres; the paper does not say which the third is:
+this is our choice):
 
 ========  ====================  ====================================================
 ``cut``   axis (lattice)        edges

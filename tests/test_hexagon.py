@@ -9,7 +9,7 @@ References used here, none of them a copy of the code under test:
   on the rest geometry), areal terms k_area (A - A0)^2 / (2 A0);
 * central finite differences for gradients and Hessians;
 * exact symmetries (rigid motions, the D3 point group of the particle lattice);
-* the bulk energy per particle (3 k + sqrt(3) k_area) eps^2 (NOTES.md, checked by hand);
+* the bulk energy per particle (3 k + sqrt(3) k_area) eps^2 (main text Eq. 8, checked by hand);
 * the continuum theory (main text Eqs. 8-13 as corrected in pyfrustrate.continuum, itself tested
   against direct minimisations of Eq. 4 in test_continuum.py) for fibres and disks, whose
   agreement with the discrete model must improve as ell grows;
@@ -564,7 +564,7 @@ def test_boundary_layer_shift_decays_over_ell(ell, nu):
 
 
 # The excess energy per particle 1 - e(d) at distance d from the edge goes like
-# a exp(-d/ell) - b exp(-2d/ell) (NOTES.md), so a log-linear fit overestimates ell unless it
+# a exp(-d/ell) - b exp(-2d/ell), so a log-linear fit overestimates ell unless it
 # starts a few ell in; on a fibre of width 20 ell, fitted over 3 ell < d < 8 ell, measured
 # ell_fit/ell - 1 = 1.0-1.2 % (nu = 0.1, 0.5), 9.2 %, 4.0 %, 2.1 % (nu = 0.9, ell = 3, 5, 8).
 ENERGY_DECAY_TOL = 0.15

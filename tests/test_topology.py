@@ -207,7 +207,7 @@ def test_fiber_bond_counts_per_cell(width):
 
 
 def test_fiber_edge_bonds_per_unit_length():
-    # Broken bonds per unit length of one edge (what sets the line tension, NOTES.md): a cut
+    # Broken bonds per unit length of one edge (what sets the line tension, ansatz.edge_line_tension): a cut
     # along a lattice vector breaks 2 bonds per unit length per edge pair, i.e. 1 per edge;
     # the perpendicular (cut 1) one breaks 4/sqrt(3) per edge pair.
     w = 8
