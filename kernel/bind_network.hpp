@@ -18,28 +18,31 @@ void check_state(const Network<Model>& net, const Vector& x) {
     if (!x.allFinite()) throw std::invalid_argument("x contains non-finite values");
 }
 
+// (energy, gradient) of the network at displacement u, for Python.
+template <class Model>
+pybind11::tuple energy_and_gradient(const Model& model, const Topology& t, const Vector& u, bool vectorised) {
+    const Network<Model> net{model, t};
+    Vector g;
+    const double e = net.energy(u, &g, vectorised);
+    return pybind11::make_tuple(e, g);
+}
+
 template <class Model>
 void export_network_functions(pybind11::module_& m) {
     namespace py = pybind11;
     m.def(
         "energy",
         [](const Model& model, const Topology& t, const Vector& x) {
-            const Network<Model> net{model, t};
-            check_state(net, x);
-            Vector g;
-            const double e = net.energy(displacement_of(t, x), &g);
-            return py::make_tuple(e, g);
+            check_state(Network<Model>{model, t}, x);
+            return energy_and_gradient(model, t, displacement_of(t, x), true);
         },
         py::arg("model"), py::arg("topology"), py::arg("x"),
         "Energy of the network at state x and its gradient (same layout as x).");
     m.def(
         "energy_of_displacement",
         [](const Model& model, const Topology& t, const Vector& u, bool vectorised) {
-            const Network<Model> net{model, t};
-            check_state(net, u);
-            Vector g;
-            const double e = net.energy(u, &g, vectorised);
-            return py::make_tuple(e, g);
+            check_state(Network<Model>{model, t}, u);
+            return energy_and_gradient(model, t, u, vectorised);
         },
         py::arg("model"), py::arg("topology"), py::arg("u"), py::arg("vectorised") = true,
         "Energy and gradient at the displacement u = x - reference_state (exact to round-off of the forces); "

@@ -148,8 +148,8 @@ Eigen::VectorXd CholeskyFactor::solve(const Eigen::VectorXd& b) const {
     const int n = size();
     if (b.size() != n) throw std::invalid_argument("sparse Cholesky: right-hand side has the wrong size");
     cholmod_dense rhs;
-    rhs.nrow = rhs.ncol = 1;
     rhs.nrow = n;
+    rhs.ncol = 1;
     rhs.nzmax = n;
     rhs.d = n;
     rhs.x = const_cast<double*>(b.data());

@@ -35,9 +35,8 @@ struct HexagonModel {
         // each addition formed without cancellation (elements.hpp). Triangle sides 1 +- eps; the
         // hexagon side, corners at radii (1 +- eps)/sqrt3 60 degrees apart, is
         // sqrt((1 + 3 eps^2) / 3) = 1/sqrt3 + eps^2 / (side + 1/sqrt3); areas sqrt3/4 (1 +- eps)^2.
-        const double side = std::sqrt((1 + 3 * eps * eps) / 3.0);
         side_nominal_ = 1 / std::sqrt(3.0);
-        side_delta_ = eps * eps / (side + side_nominal_);
+        side_delta_ = side_delta(eps);
         area_nominal_ = std::sqrt(3.0) / 4.0;
         yellow_area_delta_ = area_nominal_ * eps * (2 + eps);
         red_area_delta_ = area_nominal_ * eps * (eps - 2);
@@ -53,6 +52,12 @@ struct HexagonModel {
     static constexpr int kSprings = 12;
     static constexpr int kFrom[kSprings] = {1, 0, 3, 2, 5, 4, 0, 1, 2, 3, 4, 5};
     static constexpr int kTo[kSprings] = {3, 2, 5, 4, 1, 0, 1, 2, 3, 4, 5, 0};
+
+    // What the mismatch adds to the hexagon's side, without cancellation:
+    // sqrt((1 + 3 eps^2) / 3) - 1/sqrt3 = eps^2 / (sqrt((1 + 3 eps^2) / 3) + 1/sqrt3).
+    static double side_delta(double eps) {
+        return eps * eps / (std::sqrt((1 + 3 * eps * eps) / 3.0) + 1 / std::sqrt(3.0));
+    }
 
     // Corners of the particle at rest without mismatch, in its own frame (slots as in
     // topology.hpp: radius 1/sqrt3, 30 + 60 s degrees): the reference of energy(x).

@@ -42,7 +42,7 @@ class PeriodMap {
    public:
     // image_range: the largest |n| asked for (at least the topology's own max_image).
     PeriodMap(const Topology& t, const double* period_displacement, int image_range = 0)
-        : t_(t), np_(t.n_period_parameters()), range_(std::max(image_range, t.max_image)) {
+        : t_(t), range_(std::max(image_range, t.max_image)) {
         if (t.periodicity == Periodicity::None) return;
         dt_[0] = Vec2(period_displacement[0], period_displacement[1]);
         if (t.periodicity == Periodicity::Bulk) dt_[1] = Vec2(period_displacement[2], period_displacement[3]);
@@ -72,7 +72,6 @@ class PeriodMap {
         }
     }
 
-    int n_parameters() const { return np_; }
     bool translation_only() const { return !t_.curved; }
 
     // Displacement of image n of a corner (reference r_ref, displacement u) from its reference image.
@@ -138,7 +137,6 @@ class PeriodMap {
     }
 
     const Topology& t_;
-    int np_;
     int range_;
     Vec2 dt_[2] = {Vec2::Zero(), Vec2::Zero()};
     double theta_ = 0;
@@ -157,7 +155,6 @@ struct HessianPattern {
     int n_free = 0;
     std::vector<int> free_index;               // dof -> free index, -1 if pinned
     std::vector<int> column_start, row;        // upper-triangular CSC on the free dof
-    std::vector<int> local_dof;                // per particle: (2C + np) global dof, -1 unused
     std::vector<int> slot;                     // per particle: (2C + np)^2 positions in `row`, -1 unused
     int local_size = 0;
 };
@@ -222,14 +219,6 @@ struct Network {
         return false;
     }
 
-    // The particles' reference corners in their own frame: the slot offsets, the lattice's
-    // view of the model's rest shape without mismatch (tests check that the two agree).
-    Corners reference_corners() const {
-        Corners c;
-        for (int s = 0; s < C; ++s) c.template segment<2>(2 * s) = topology.slot_offset[s];
-        return c;
-    }
-
     // Displacements of the corners particle p sees (periodic images applied), in its own frame.
     Corners local_displacements(const Vector& u, const PeriodMap& map, int p) const {
         Corners c;
@@ -242,9 +231,12 @@ struct Network {
         return c;
     }
 
-    // Corners of particle p in its own frame (slot offsets plus displacements), for drawing.
+    // Corners of particle p in its own frame, for drawing: the slot offsets (the lattice's view
+    // of the model's rest shape; tests check that the two agree) plus the displacements.
     Corners local_corners(const Vector& u, const PeriodMap& map, int p) const {
-        return reference_corners() + local_displacements(u, map, p);
+        Corners c = local_displacements(u, map, p);
+        for (int s = 0; s < C; ++s) c.template segment<2>(2 * s) += topology.slot_offset[s];
+        return c;
     }
 
     double particle_energy(const Vector& u, const PeriodMap& map, int p) const {
@@ -321,20 +313,21 @@ struct Network {
             if (pat.free_index[i] >= 0) pat.free_index[i] = pat.n_free++;
         pat.local_size = 2 * C + npp;
         const int L = pat.local_size, np = topology.n_particles();
-        pat.local_dof.assign(static_cast<size_t>(np) * L, -1);
-        std::vector<std::vector<int>> columns(pat.n_free);
-        for (int p = 0; p < np; ++p) {
-            int* dof = &pat.local_dof[static_cast<size_t>(p) * L];
+        // Calls visit(a, b, i, j) for every entry (a, b) of particle p's local Hessian that lands
+        // in the upper triangle (free row i <= free column j).
+        auto for_each_entry = [&](int p, auto&& visit) {
+            int dof[2 * C + kMaxPeriodParameters];
             for (int s = 0; s < C; ++s) dof[2 * s] = 2 * topology.corner[p][s], dof[2 * s + 1] = dof[2 * s] + 1;
-            if (has_image(p))
-                for (int k = 0; k < npp; ++k) dof[2 * C + k] = n_corner_dof() + k;
-            for (int a = 0; a < L; ++a)
-                for (int b = 0; b < L; ++b) {
-                    if (dof[a] < 0 || dof[b] < 0) continue;
+            const int extent = has_image(p) ? L : 2 * C;
+            for (int k = 0; k < npp; ++k) dof[2 * C + k] = n_corner_dof() + k;
+            for (int a = 0; a < extent; ++a)
+                for (int b = 0; b < extent; ++b) {
                     const int i = pat.free_index[dof[a]], j = pat.free_index[dof[b]];
-                    if (i >= 0 && j >= 0 && i <= j) columns[j].push_back(i);
+                    if (i >= 0 && j >= 0 && i <= j) visit(a, b, i, j);
                 }
-        }
+        };
+        std::vector<std::vector<int>> columns(pat.n_free);
+        for (int p = 0; p < np; ++p) for_each_entry(p, [&](int, int, int i, int j) { columns[j].push_back(i); });
         pat.column_start.assign(pat.n_free + 1, 0);
         for (int j = 0; j < pat.n_free; ++j) {
             auto& col = columns[j];
@@ -345,18 +338,12 @@ struct Network {
         pat.row.reserve(pat.column_start.back());
         for (const auto& col : columns) pat.row.insert(pat.row.end(), col.begin(), col.end());
         pat.slot.assign(static_cast<size_t>(np) * L * L, -1);
-        for (int p = 0; p < np; ++p) {
-            const int* dof = &pat.local_dof[static_cast<size_t>(p) * L];
-            for (int a = 0; a < L; ++a)
-                for (int b = 0; b < L; ++b) {
-                    if (dof[a] < 0 || dof[b] < 0) continue;
-                    const int i = pat.free_index[dof[a]], j = pat.free_index[dof[b]];
-                    if (i < 0 || j < 0 || i > j) continue;
-                    const auto first = pat.row.begin() + pat.column_start[j];
-                    const auto last = pat.row.begin() + pat.column_start[j + 1];
-                    pat.slot[(static_cast<size_t>(p) * L + a) * L + b] = static_cast<int>(std::lower_bound(first, last, i) - pat.row.begin());
-                }
-        }
+        for (int p = 0; p < np; ++p)
+            for_each_entry(p, [&](int a, int b, int i, int j) {
+                const auto first = pat.row.begin() + pat.column_start[j], last = pat.row.begin() + pat.column_start[j + 1];
+                pat.slot[(static_cast<size_t>(p) * L + a) * L + b] =
+                    static_cast<int>(std::lower_bound(first, last, i) - pat.row.begin());
+            });
         return pat;
     }
 
@@ -377,7 +364,8 @@ struct Network {
             ParticleHessian h = ParticleHessian::Zero();
             Corners f = Corners::Zero();
             model.energy_of_displacement(c, exact ? &f : nullptr, &h);
-            if (!has_image(p)) {
+            const bool image = has_image(p);
+            if (!image) {
                 local.template topLeftCorner<2 * C, 2 * C>() = h;
             } else {
                 J.setZero();
@@ -408,7 +396,7 @@ struct Network {
                 }
             }
             const int* slot = &pattern.slot[static_cast<size_t>(p) * L * L];
-            const int extent = has_image(p) ? 2 * C + npp : 2 * C;
+            const int extent = image ? 2 * C + npp : 2 * C;
             for (int a = 0; a < extent; ++a)
                 for (int b = 0; b < extent; ++b) {
                     const int k = slot[a * L + b];

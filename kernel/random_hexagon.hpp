@@ -44,20 +44,20 @@ struct RandomHexagonModel {
             throw std::invalid_argument("M must be positive semi-definite (lowest eigenvalue " + std::to_string(lowest) +
                                         "): the particle's rest state would be unstable");
         if (!(eps >= 0 && eps < 1)) throw std::invalid_argument("eps must lie in [0, 1)");
+        const Reference& r = reference();
+        for (int i = 0; i < 9; ++i)
+            mismatch_[i] = r.hexagon_side[i] ? HexagonModel::side_delta(eps) : eps * r.eps_coefficient[i];
     }
 
     double step_scale() const { return std::max(eps, 1e-3); }
 
     // The nine distances of the rest shape without mismatch (HexagonModel::rest_corners()): edges
-    // and lengths computed once; rest distances as nominal + what eps adds (+eps, -eps, or for the
-    // hexagon sides eps^2 / (side + 1/sqrt3), side = sqrt((1 + 3 eps^2) / 3)).
+    // and lengths computed once; rest distances as nominal + what eps adds (mismatch_: +eps, -eps,
+    // or for the hexagon sides HexagonModel::side_delta).
     struct Reference {
         Eigen::Vector2d edge[9];
         double length[9], nominal[9], eps_coefficient[9];
         bool hexagon_side[9];
-        double side_delta(double e, int i) const {
-            return hexagon_side[i] ? e * e / (std::sqrt((1 + 3 * e * e) / 3.0) + nominal[i]) : 0.0;
-        }
     };
     static const Reference& reference() {
         static const Reference r = [] {
@@ -116,7 +116,7 @@ struct RandomHexagonModel {
             const double inverse = length[i] > 0 ? 1.0 / length[i] : 0.0;
             unit[i] = v * inverse;
             stretch(i) = length_change(d0.x(), d0.y(), dd.x(), dd.y(), length[i], inverse, r.length[i]) +
-                         (r.length[i] - r.nominal[i]) - eps * r.eps_coefficient[i] - r.side_delta(eps, i);
+                         (r.length[i] - r.nominal[i]) - mismatch_[i];
         }
         const Vector9 force = M * stretch;  // dE/dd
         if (grad)
@@ -145,6 +145,10 @@ struct RandomHexagonModel {
         }
         return 0.5 * stretch.dot(force);
     }
+
+   private:
+    // What eps adds to each rest distance (+-eps, or HexagonModel::side_delta for hexagon sides).
+    double mismatch_[9] = {};
 };
 
 }  // namespace pyfrustrate

@@ -181,10 +181,8 @@ class CacheHandle {
     StiffnessCache* cache_;
 };
 
-// K^-1 r with the reference stiffness (pinned entries 0).
-template <class Model>
-Vector reference_solve(const Model& model, StiffnessCache& cache, const Vector& residual) {
-    const CholeskyFactor& k = cache.reference(model);
+// K^-1 r with the reference stiffness factor k = cache.reference(model) (pinned entries 0).
+inline Vector reference_solve(const StiffnessCache& cache, const CholeskyFactor& k, const Vector& residual) {
     const Vector step = k.solve(cache.to_free(residual));
     if (!step.allFinite()) throw std::runtime_error("linear solve: sparse Cholesky back-substitution failed");
     return cache.to_full(step);
@@ -197,7 +195,7 @@ Vector linear_displacement(const Model& model, const Topology& topology, Stiffne
     const Network<Model> net{model, topology};
     Vector gradient;
     net.energy(Vector::Zero(net.size()), &gradient);
-    Vector u = -reference_solve(model, cache, gradient);
+    Vector u = -reference_solve(cache, cache.reference(model), gradient);
     remove_rigid_motion(topology, u);
     return u;
 }
@@ -249,7 +247,7 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
     const Network<Model> net{model, topology};
     constexpr double armijo = 1e-4;
     const double switch_ratio = options.newton_switch_ratio;
-    (void)cache.reference(model);  // the analysis and reference factor every branch below may use
+    const CholeskyFactor& stiffness = cache.reference(model);  // also makes the analysis used below
     constexpr double roundoff = 1e-10;  // relative resolution of the energy assumed near the minimum
     Vector gradient;
     double energy = net.energy(u, &gradient);
@@ -318,7 +316,7 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
                 alpha[i] = history[i].rho * history[i].s.dot(q);
                 q -= alpha[i] * history[i].y;
             }
-            direction = reference_solve(model, cache, q);
+            direction = reference_solve(cache, stiffness, q);
             for (size_t i = 0; i < history.size(); ++i) {
                 const double beta = history[i].rho * history[i].y.dot(direction);
                 direction += (alpha[i] - beta) * history[i].s;
@@ -327,7 +325,7 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
         }
         if (!(gradient.dot(direction) < 0) || !direction.allFinite()) {
             history.clear();
-            direction = -reference_solve(model, cache, gradient);
+            direction = -reference_solve(cache, stiffness, gradient);
         }
         // Trust region: no corner moves by more than max_step (lattice units) in one step. Newton
         // steps near the minimum are far shorter; a longer one comes from a model far from
@@ -363,47 +361,7 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
         ++steps;
         if (shift > 0) ++damped_steps;
         shift = shift > 1e-6 ? shift / 100 : 0;
-        if (options.newton_handover && damped_steps > 4 && trial_gnorm > options.gradient_tolerance) {
-            // Far from the minimum, where the Hessian stays indefinite (large eps, nu -> 1),
-            // L-BFGS globalises better than damped Newton; Newton finishes after it.
-            u = std::move(trial);
-            energy = trial_energy;
-            gnorm = trial_gnorm;
-            stop = "handed over to L-BFGS: the exact Hessian was indefinite in 5 steps";
-            handover = true;
-            break;
-        }
-        // Round-off: the force no longer falls (its noise is reached). Give up after eight exact
-        // steps that neither lowered the energy beyond round-off nor the best force tenfold.
-        const bool energy_still_falls = energy - trial_energy > 1e-13 * std::abs(energy);
-        if (trial_gnorm < 0.1 * best_gnorm || energy_still_falls) {
-            best_gnorm = std::min(best_gnorm, trial_gnorm);
-            stalled = 0;
-        } else if (++stalled >= 8 && exact) {
-            u = std::move(trial);
-            energy = trial_energy;
-            gnorm = trial_gnorm;
-            // A stall far above the tolerance is the landscape's doing, not round-off's.
-            handover = options.newton_handover && gnorm > 1e4 * options.gradient_tolerance;
-            stop = handover ? "handed over to L-BFGS: Newton stalled far from the tolerance"
-                            : "round-off floor: the largest force stopped falling (its noise is reached)";
-            break;
-        }
-        if (!exact && trial_gnorm > options.gradient_tolerance) {
-            const double ratio = trial_gnorm / gnorm;
-            if (ratio > switch_ratio) {
-                exact = true;
-            } else {
-                const CholeskyAnalysis& a = *cache.analysis();
-                const double step_cost = 4.0 * a.factor_nonzeros() + 100.0 * a.size();
-                const double factorization_cost = a.factor_flops() / step_cost;
-                const double remaining = std::log(options.gradient_tolerance / trial_gnorm) / std::log(ratio);
-                exact = remaining > 3 * (factorization_cost + 1);
-            }
-        }
-        if (exact) {
-            history.clear();
-        } else {
+        if (!exact) {
             Pair pair{trial - u, trial_gradient - gradient, 0.0};
             const double sy = pair.s.dot(pair.y);
             if (sy > 1e-12 * pair.s.norm() * pair.y.norm()) {
@@ -412,10 +370,44 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
                 if (history.size() > 5) history.erase(history.begin());
             }
         }
+        const double previous_energy = energy, previous_gnorm = gnorm;
         u = std::move(trial);
         energy = trial_energy;
         gradient = std::move(trial_gradient);
         gnorm = trial_gnorm;
+        if (options.newton_handover && damped_steps > 4 && gnorm > options.gradient_tolerance) {
+            // Far from the minimum, where the Hessian stays indefinite (large eps, nu -> 1),
+            // L-BFGS globalises better than damped Newton; Newton finishes after it.
+            stop = "handed over to L-BFGS: the exact Hessian was indefinite in 5 steps";
+            handover = true;
+            break;
+        }
+        // Round-off: the force no longer falls (its noise is reached). Give up after eight exact
+        // steps that neither lowered the energy beyond round-off nor the best force tenfold.
+        const bool energy_still_falls = previous_energy - energy > 1e-13 * std::abs(previous_energy);
+        if (gnorm < 0.1 * best_gnorm || energy_still_falls) {
+            best_gnorm = std::min(best_gnorm, gnorm);
+            stalled = 0;
+        } else if (++stalled >= 8 && exact) {
+            // A stall far above the tolerance is the landscape's doing, not round-off's.
+            handover = options.newton_handover && gnorm > 1e4 * options.gradient_tolerance;
+            stop = handover ? "handed over to L-BFGS: Newton stalled far from the tolerance"
+                            : "round-off floor: the largest force stopped falling (its noise is reached)";
+            break;
+        }
+        if (!exact && gnorm > options.gradient_tolerance) {
+            const double ratio = gnorm / previous_gnorm;
+            if (ratio > switch_ratio) {
+                exact = true;
+            } else {
+                const CholeskyAnalysis& a = *cache.analysis();
+                const double step_cost = 4.0 * a.factor_nonzeros() + 100.0 * a.size();
+                const double factorization_cost = a.factor_flops() / step_cost;
+                const double remaining = std::log(options.gradient_tolerance / gnorm) / std::log(ratio);
+                exact = remaining > 3 * (factorization_cost + 1);
+            }
+        }
+        if (exact) history.clear();
     }
     MinimizeResult result;
     result.x = state_of(topology, u);
