@@ -27,6 +27,33 @@ pybind11::tuple energy_and_gradient(const Model& model, const Topology& t, const
     return pybind11::make_tuple(e, g);
 }
 
+// The particle contract (network.hpp) as attributes of the bound model class, the same for every
+// model: tiling, corner count, point group, rest shape, energy with gradient and Hessian of a
+// displacement from it, the model without mismatch, the typical step.
+template <class Model, class Class>
+void bind_particle_contract(Class& cls) {
+    namespace py = pybind11;
+    cls.def_property_readonly_static("tiling", [](py::object) { return std::string(tiling_of(Model::kTiling).name); })
+        .def_property_readonly_static("corner_count", [](py::object) { return Model::kCornerCount; })
+        .def_property_readonly_static("point_group",
+                                      [](py::object) { return Model::kPointGroup == PointGroup::C3 ? "C3" : "D3"; })
+        .def_static("rest_corners", &Model::rest_corners,
+                    "Corners (x0, y0, x1, ...) of the rest shape without mismatch, in the particle's own frame.")
+        .def(
+            "energy_of_displacement",
+            [](const Model& model, const typename Model::Corners& disp) {
+                typename Model::Corners g = Model::Corners::Zero();
+                typename Model::Hessian h = Model::Hessian::Zero();
+                const double e = model.energy_of_displacement(disp, &g, &h);
+                return py::make_tuple(e, g, h);
+            },
+            py::arg("displacement"),
+            "(energy, gradient, Hessian) of one particle whose corners are displaced by `displacement` from "
+            "rest_corners().")
+        .def("without_mismatch", &Model::without_mismatch)
+        .def_property_readonly("step_scale", &Model::step_scale);
+}
+
 template <class Model>
 void export_network_functions(pybind11::module_& m) {
     namespace py = pybind11;
@@ -89,7 +116,7 @@ void export_network_functions(pybind11::module_& m) {
             Eigen::MatrixXd out(t.n_particles(), 2 * Model::kCornerCount);
             for (int p = 0; p < t.n_particles(); ++p) {
                 auto c = net.local_corners(u, map, p);
-                const Vec2 site = site_position(t.sites[p]);
+                const Vec2 site = site_position(t.tiling(), t.sites[p]);
                 for (int s = 0; s < Model::kCornerCount; ++s) c.template segment<2>(2 * s) += site;
                 out.row(p) = c.transpose();
             }

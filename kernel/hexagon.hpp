@@ -6,6 +6,7 @@
 #pragma once
 
 #include "elements.hpp"
+#include "tiling.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +18,8 @@ namespace pyfrustrate {
 struct Topology;
 
 struct HexagonModel {
+    static constexpr TilingKind kTiling = TilingKind::Hexagon;
+    static constexpr PointGroup kPointGroup = PointGroup::D3;
     static constexpr int kCornerCount = 6;
     using Corners = CornerArray<6>;
     using Hessian = CornerMatrix<6>;

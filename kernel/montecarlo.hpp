@@ -1,10 +1,10 @@
 // Monte Carlo annealing of aggregate topologies (main text, "Monte-Carlo validation of the
 // phase diagram", and the snapshots of Fig. 3b).
 //
-// N particles occupy distinct sites of a periodic L x L box of the triangular lattice (site
-// (i, j) at i a1 + j a2, i and j modulo L; see topology.hpp). A move takes a random particle to
-// a random empty site. The energy of a configuration is a sum over its connected clusters
-// (connectivity through the six lattice neighbours, periodic):
+// N particles occupy distinct sites of a periodic L x L box of cells of the particle's tiling
+// (box.hpp). A move takes a random particle to a random empty site. The energy of a
+// configuration is a sum over its connected clusters (connectivity through the tiling's edge
+// neighbours, periodic):
 //
 //     E = sum_clusters [ -g * bonds(cluster) + relaxed deformation energy(cluster) ],
 //
@@ -14,163 +14,36 @@
 //
 // Only what a move changes is recomputed: the cluster the particle leaves (possibly split into
 // pieces) and the clusters around its new site (merged). Relaxed deformation energies are cached
-// by shape up to translations and the particle's point group D3 (rotations by 120 degrees and
-// the colour-preserving mirrors; NOT the 60-degree rotations, which swap the yellow and red
-// corners). The energy of a shape is always computed from its canonical representative, so it
-// is a function of the key alone: results do not depend on the cache (only speed does).
+// by shape up to translations and the symmetries the particle and its tiling share
+// (shape_key.hpp). The energy of a shape is always computed from its canonical representative,
+// so it is a function of the key alone: results do not depend on the cache (only speed does).
 //
-// Clusters that wrap around the box are periodic aggregates: the wrap vectors met during the
-// breadth-first search span a sublattice; rank 1 is a straight fibre (Periodicity::Fiber along
-// the wrap vector), rank 2 a bulk cell (Periodicity::Bulk). Their period vectors relax (the box
-// stands for an infinite system). They are keyed without symmetry reduction, box size included.
+// Clusters that wrap around the box are periodic aggregates (box.hpp): rank 1 a straight fibre
+// along the wrap vector, rank 2 a bulk cell. Their period vectors relax (the box stands for an
+// infinite system). They are keyed without symmetry reduction, box size included.
+//
+// Pieces: box.hpp (box and clusters), shape_key.hpp (canonical keys), cluster_energy.hpp
+// (relaxed cluster energies and their cache), this file (the chain). Everything is a template
+// on the particle model; bind_montecarlo.hpp binds one class per model from one template.
 #pragma once
 
-#include "relax.hpp"
-#include "topology.hpp"
+#include "box.hpp"
+#include "cluster_energy.hpp"
+#include "shape_key.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <random>
+#include <sstream>
+#include <stdexcept>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 namespace pyfrustrate {
 
-// ------------------------------------------------------------------------------------------
-// Geometry of the periodic box and clusters (free functions, montecarlo.cpp)
-// ------------------------------------------------------------------------------------------
-
-// The periodic L x L box; site index s = i + L j with 0 <= i, j < L.
-struct Box {
-    int L = 0;
-    std::vector<int> neighbour;  // 6 per site, directions as in topology.cpp
-
-    explicit Box(int L_);
-    int n_sites() const { return L * L; }
-    int index(int i, int j) const;  // any integers, reduced modulo L
-    LatticeVector coords(int s) const { return {s % L, s / L}; }
-    int next(int s, int d) const { return neighbour[6 * s + d]; }
-};
-
-// Lattice directions of the six neighbours: (1,0), (0,1), (-1,1), (-1,0), (0,-1), (1,-1).
-extern const std::array<LatticeVector, 6> kLatticeNeighbours;
-
-// A connected cluster of occupied sites found by breadth-first search on the torus.
-struct Cluster {
-    std::vector<int> members;              // site indices, in BFS order from the start site
-    std::vector<LatticeVector> unwrapped;  // plane coordinates of the members (same order)
-    // Lattice of wrap vectors (differences of unwrapped coordinates of the same site), in
-    // Hermite normal form: basis (a, b), (0, c) with a, c >= 0 and 0 <= b < c when c > 0.
-    int a = 0, b = 0, c = 0;
-    int rank() const { return (a != 0) + (c != 0); }
-    int size() const { return static_cast<int>(members.size()); }
-};
-
-// Scratch space of the searches: visit marks (stamped, never cleared) and unwrapped
-// coordinates per site.
-struct ClusterWorkspace {
-    std::vector<unsigned> mark;
-    std::vector<LatticeVector> position;
-    unsigned stamp = 0;
-    std::vector<int> queue;
-    void resize(int n_sites);
-    void new_round() { if (++stamp == 0) { std::fill(mark.begin(), mark.end(), 0u); stamp = 1; } }
-    bool seen(int s) const { return mark[s] == stamp; }
-};
-
-// Cluster of `start` among the sites with occupied[s] >= 0. Marks its members as seen in the
-// current round of `ws` (call ws.new_round() to forget earlier searches).
-Cluster find_cluster(const Box& box, const std::vector<int>& occupied, int start, ClusterWorkspace& ws);
-
-// The six colour-preserving lattice symmetries about a site (the point group D3 of the
-// particle), on lattice coordinates: op 0 identity, 1 and 2 rotations by 120 and 240 degrees,
-// 3-5 the mirrors through opposite corners of the hexagon (lines at 90, 30 and 150 degrees;
-// op 3 is x -> -x, (i, j) -> (-i-j, j)). Each maps yellow corners to yellow corners.
-LatticeVector d3_transform(int op, const LatticeVector& v);
-
-using ShapeKey = std::vector<std::int64_t>;
-struct ShapeKeyHash {
-    std::size_t operator()(const ShapeKey& key) const;
-};
-
-// Canonical key of a finite cluster given by its plane sites: over the six D3 operations,
-// transform, translate the lexicographically smallest site to the origin, sort; keep the
-// lexicographically smallest list. If `canonical_sites` is given, it receives the sites of
-// that representative (sorted), from which the energy of the shape is computed.
-ShapeKey finite_shape_key(const std::vector<LatticeVector>& sites,
-                          std::vector<LatticeVector>* canonical_sites = nullptr);
-
-// Key of a wrapped cluster: (-rank, L, a, b, c, sorted member site indices). No symmetry
-// reduction.
-ShapeKey wrapped_shape_key(const Cluster& cluster, int L);
-
-// A cluster as a topology: finite clusters from `sites` (plane coordinates); wrapped ones as a
-// straight fibre along (a, b) or (0, c) (rank 1) or as a bulk cell spanned by (a, b), (0, c)
-// (rank 2), `sites` being unwrapped coordinates consistent with those periods.
-Topology cluster_topology(const std::vector<LatticeVector>& sites, const Cluster& wrap);
-
-// ------------------------------------------------------------------------------------------
-// Relaxed deformation energy of one cluster
-// ------------------------------------------------------------------------------------------
-
-enum class RelaxMethod { Linear = 0, Lbfgs = 1, Newton = 2 };
-
-struct ClusterRelaxOptions {
-    RelaxMethod method = RelaxMethod::Linear;
-    MinimizeOptions minimize;  // L-BFGS: absolute gradient tolerance, evaluation cap, step scale
-    bool warm_start = true;    // L-BFGS starts from the linear solution (else the bulk reference)
-};
-
-struct RelaxCounters {
-    std::int64_t minimisations = 0;  // clusters relaxed
-    std::int64_t evaluations = 0;    // energy+gradient evaluations (1 per linear solve)
-    std::int64_t fallbacks = 0;      // linear solves refused (floppy topology), done by L-BFGS
-    std::int64_t unconverged = 0;    // L-BFGS runs stopped short of the tolerance
-};
-
-// Minimum deformation energy of `topology` (main text Eq. 7, inner minimisation): the linear
-// solve (exact as eps -> 0; a floppy topology falls back to L-BFGS from the bulk reference),
-// or L-BFGS started from the linear solution (warm start) or from the bulk reference.
-template <class Model>
-double relaxed_cluster_energy(const Model& model, const Topology& topology, const ClusterRelaxOptions& options,
-                              RelaxCounters& counters) {
-    ++counters.minimisations;
-    if (options.method == RelaxMethod::Newton) {
-        try {
-            const MinimizeResult r = relax_newton(model, topology, options.minimize);
-            counters.evaluations += r.iterations;
-            if (!r.converged) ++counters.unconverged;
-            if (r.energy >= 0) return r.energy;
-        } catch (const std::runtime_error&) {
-            ++counters.fallbacks;  // floppy topology: no factorisation, L-BFGS below
-        }
-    }
-    Vector x0;
-    if (options.method == RelaxMethod::Linear || options.warm_start) {
-        try {
-            MinimizeResult linear = relax_linear(model, topology);
-            ++counters.evaluations;
-            if (options.method == RelaxMethod::Linear) return linear.energy;
-            x0 = std::move(linear.x);
-        } catch (const std::runtime_error&) {
-            ++counters.fallbacks;
-        }
-    }
-    if (x0.size() == 0) x0 = topology.reference_state();
-    const MinimizeResult r = relax_lbfgs(model, topology, x0, options.minimize);
-    counters.evaluations += r.iterations;
-    if (!r.converged) ++counters.unconverged;
-    // Every term is non-negative near the reference: a negative energy means that L-BFGS left
-    // the physical basin (k_area < 0), and the Monte Carlo must not go on with it.
-    if (!(r.energy >= 0))
-        throw std::runtime_error("L-BFGS left the physical minimum of a cluster (energy " + std::to_string(r.energy) +
-                                 " < 0); use method='linear' or a smaller tol");
-    return r.energy;
-}
-
-// ------------------------------------------------------------------------------------------
-// The Monte Carlo state
-// ------------------------------------------------------------------------------------------
+// Metropolis acceptance of an energy change at temperature T with the uniform deviate u.
+inline bool metropolis(double delta, double T, double u) { return delta <= 0 || (T > 0 && u < std::exp(-delta / T)); }
 
 struct MonteCarloOptions {
     ClusterRelaxOptions relax;
@@ -182,7 +55,7 @@ struct MonteCarloOptions {
     // distribution at every T, far fewer relaxations at low T (moves that break bonds are
     // mostly screened out). false: plain Metropolis, min(1, exp(-dE / T)).
     bool delayed_acceptance = true;
-    double bond_deformation = 0.0;  // surrogate deformation energy per bond (bulk: e_b / 3)
+    double bond_deformation = 0.0;  // surrogate deformation energy per bond (bulk: e_b / bonds per particle)
     // Probability that an attempted move is a cluster translation instead of a particle move: a
     // random particle's (finite) cluster is shifted by a uniformly random lattice vector of the
     // box, and the shift is accepted iff the cluster lands on empty sites without touching any
@@ -200,14 +73,13 @@ struct MonteCarloCounters {
     std::int64_t attempted = 0, accepted = 0;
     std::int64_t screened = 0;  // rejected by the surrogate, without relaxing anything
     std::int64_t cluster_attempted = 0, cluster_accepted = 0;  // cluster translations (within attempted/accepted)
-    std::int64_t cache_hits = 0, cache_misses = 0, cache_clears = 0;
+    CacheCounters cache;
     RelaxCounters relax;
 };
 
 // The Monte Carlo state: occupancy, particle list, random generator, counters, cluster table
 // and cache. Energies in the units of the particle's springs; g >= 0 is the binding energy per
-// bound pair of sides (main text, "Two-dimensional particle model"). Member functions live in
-// montecarlo.cpp, instantiated for HexagonModel (another particle model: one more line there).
+// bound pair of edges (main text, "Two-dimensional particle model").
 template <class Model>
 class MonteCarlo {
 public:
@@ -215,7 +87,7 @@ public:
 
     // Places the particles on `sites` (lattice coordinates, reduced modulo L; particle p at
     // sites[p]); rebuilds the clusters and the energy from scratch.
-    void place(const std::vector<LatticeVector>& sites);
+    void place(const std::vector<Site>& sites);
 
     // One attempted move at temperature T >= 0 (Metropolis, or delayed acceptance; at T = 0 a
     // move is accepted iff dE <= 0, resp. dE_s <= 0 and dE <= dE_s), or with probability
@@ -246,7 +118,8 @@ public:
     double g() const { return g_; }
     MonteCarloCounters counters;
     std::size_t cache_size() const { return cache_.size(); }
-    void clear_cache() { cache_.clear(); cache_entries_ = 0; }
+    void clear_cache() { cache_.clear(); }
+    const std::vector<int>& shape_symmetries() const { return symmetries_; }
     // Relaxed deformation energy of a cluster of this box through the cache.
     double cluster_energy(const Cluster& cluster);
 
@@ -274,12 +147,322 @@ private:
     std::int64_t bonds_ = 0;
     double deformation_ = 0.0;
     std::mt19937_64 rng_;
-    std::unordered_map<ShapeKey, double, ShapeKeyHash> cache_;
-    std::size_t cache_entries_ = 0;
+    ClusterEnergyCache cache_;
+    std::vector<int> symmetries_;  // lattice operations under which shapes are equivalent
     ClusterWorkspace ws_, ws_canonical_;
     std::vector<Cluster> fresh_;         // clusters after the move under test
     std::vector<double> fresh_energy_;
     std::vector<int> old_ids_;
+    const Tiling& tiling() const { return tiling_of(Model::kTiling); }
 };
+
+// ---------------------------------------------------------------------------------------------
+// Member functions
+// ---------------------------------------------------------------------------------------------
+
+template <class Model>
+MonteCarlo<Model>::MonteCarlo(const Model& model, double g, int L, int n, std::uint64_t seed,
+                              const MonteCarloOptions& options)
+    : model_(model), g_(g), box_(tiling_of(Model::kTiling), L), options_(options), rng_(seed),
+      symmetries_(pyfrustrate::shape_symmetries(tiling_of(Model::kTiling), Model::kPointGroup)) {
+    cache_.limit = options.cache_limit;
+    if (!(g >= 0) || !std::isfinite(g)) throw std::invalid_argument("g must be non-negative and finite, got " + std::to_string(g));
+    if (n < 1) throw std::invalid_argument("n must be at least 1, got " + std::to_string(n));
+    if (n >= box_.n_sites())
+        throw std::invalid_argument("n must be smaller than the box's " + std::to_string(box_.n_sites()) +
+                                    " sites (a move needs an empty site), got " + std::to_string(n));
+    occupant_.assign(box_.n_sites(), -1);
+    label_.assign(box_.n_sites(), -1);
+    ws_.resize(box_.n_sites());
+    ws_canonical_.resize(box_.n_sites());
+    // Random initial placement, drawn with the chain's own generator.
+    particles_.assign(n, -1);
+    std::vector<Site> sites;
+    for (int p = 0; p < n; ++p) {
+        const int s = random_empty_site();
+        occupant_[s] = p;
+        sites.push_back(box_.coords(s));
+    }
+    place(sites);
+}
+
+template <class Model>
+inline std::uint64_t MonteCarlo<Model>::uniform_index(std::uint64_t n) {
+    const std::uint64_t threshold = (0 - n) % n;  // 2^64 mod n: reject the biased remainder
+    for (;;) {
+        const std::uint64_t r = rng_();
+        if (r >= threshold) return r % n;
+    }
+}
+
+template <class Model>
+inline double MonteCarlo<Model>::uniform01() {
+    return static_cast<double>(rng_() >> 11) * 0x1.0p-53;
+}
+
+template <class Model>
+inline int MonteCarlo<Model>::random_empty_site() {
+    for (;;) {
+        const int s = static_cast<int>(uniform_index(box_.n_sites()));
+        if (occupant_[s] < 0) return s;
+    }
+}
+
+template <class Model>
+inline int MonteCarlo<Model>::occupied_neighbours(int s) const {
+    int count = 0;
+    for (int d = 0; d < box_.neighbours(); ++d) count += occupant_[box_.next(s, d)] >= 0;
+    return count;
+}
+
+template <class Model>
+inline void MonteCarlo<Model>::place(const std::vector<Site>& sites) {
+    if (static_cast<int>(sites.size()) != n())
+        throw std::invalid_argument("sites: expected " + std::to_string(n()) + " sites, got " + std::to_string(sites.size()));
+    std::vector<int> occupant(box_.n_sites(), -1), particles(sites.size());
+    for (std::size_t p = 0; p < sites.size(); ++p) {
+        if (sites[p][2] < 0 || sites[p][2] >= tiling().sublattices)
+            throw std::invalid_argument("sites: sublattice " + std::to_string(sites[p][2]) + " does not exist");
+        const int s = box_.index(sites[p]);
+        if (occupant[s] >= 0)
+            throw std::invalid_argument("sites: site (" + std::to_string(sites[p][0]) + ", " + std::to_string(sites[p][1]) +
+                                        ") is occupied twice (modulo the box)");
+        occupant[s] = static_cast<int>(p);
+        particles[p] = s;
+    }
+    occupant_.swap(occupant);
+    particles_.swap(particles);
+    bonds_ = 0;
+    for (const int s : particles_) bonds_ += occupied_neighbours(s);
+    bonds_ /= 2;
+    deformation_ = scratch_deformation(true, options_.cache, true);
+}
+
+template <class Model>
+inline double MonteCarlo<Model>::shape_energy(const ShapeKey& key, const Cluster& cl) {
+    std::vector<Site> sites;
+    Cluster wrap;
+    if (cl.rank() == 0) {
+        sites = key_sites(key);
+    } else {
+        // Canonical embedding: the search from the smallest member site, sorted.
+        ws_canonical_.new_round();
+        wrap = find_cluster(box_, occupant_, static_cast<int>(key[5]), ws_canonical_);
+        sites = wrap.unwrapped;
+        std::sort(sites.begin(), sites.end());
+    }
+    return relaxed_cluster_energy(model_, cluster_topology(tiling(), sites, wrap), options_.relax, counters.relax);
+}
+
+template <class Model>
+inline double MonteCarlo<Model>::raw_energy(const Cluster& cl) {
+    if (cl.rank() == 0 && cl.size() == 1) return 0.0;
+    return relaxed_cluster_energy(model_, cluster_topology(tiling(), cl.unwrapped, cl), options_.relax, counters.relax);
+}
+
+template <class Model>
+inline double MonteCarlo<Model>::cluster_energy(const Cluster& cl) {
+    if (cl.rank() == 0 && cl.size() == 1) return 0.0;  // an isolated particle takes its rest shape
+    const ShapeKey key =
+        cl.rank() ? wrapped_shape_key(cl, box_.L) : finite_shape_key(tiling(), symmetries_, cl.unwrapped);
+    if (!options_.cache) return shape_energy(key, cl);
+    return cache_.get(key, [&] { return shape_energy(key, cl); }, counters.cache);
+}
+
+template <class Model>
+inline int MonteCarlo<Model>::new_cluster_id(double deformation) {
+    if (free_ids_.empty()) {
+        cluster_deformation_.push_back(deformation);
+        return static_cast<int>(cluster_deformation_.size()) - 1;
+    }
+    const int id = free_ids_.back();
+    free_ids_.pop_back();
+    cluster_deformation_[id] = deformation;
+    return id;
+}
+
+template <class Model>
+inline double MonteCarlo<Model>::scratch_deformation(bool canonical, bool cached, bool relabel) {
+    const bool saved = options_.cache;
+    options_.cache = cached;
+    if (relabel) cluster_deformation_.clear(), free_ids_.clear();
+    ws_.new_round();
+    double total = 0.0;
+    try {
+        for (const int s : particles_) {
+            if (ws_.seen(s)) continue;
+            const Cluster cl = find_cluster(box_, occupant_, s, ws_);
+            const double e = canonical ? cluster_energy(cl) : raw_energy(cl);
+            total += e;
+            if (relabel) {
+                const int id = new_cluster_id(e);
+                for (const int m : cl.members) label_[m] = id;
+            }
+        }
+    } catch (...) {
+        options_.cache = saved;
+        throw;
+    }
+    options_.cache = saved;
+    return total;
+}
+
+template <class Model>
+inline double MonteCarlo<Model>::box_energy(bool canonical) {
+    return -g_ * static_cast<double>(bonds_) + scratch_deformation(canonical, false, false);
+}
+
+template <class Model>
+inline bool MonteCarlo<Model>::step(double T) {
+    ++counters.attempted;
+    // No deviate is drawn without cluster moves, so particle-move chains keep their sequence.
+    if (options_.cluster_moves > 0 && uniform01() < options_.cluster_moves) return cluster_step();
+    return particle_step(T);
+}
+
+template <class Model>
+inline bool MonteCarlo<Model>::cluster_step() {
+    ++counters.cluster_attempted;
+    const int a = particles_[uniform_index(particles_.size())];
+    const int L = box_.L;
+    const int di = static_cast<int>(uniform_index(L)), dj = static_cast<int>(uniform_index(L));  // a cell shift
+    if (di == 0 && dj == 0) return false;
+    ws_.new_round();
+    const Cluster cl = find_cluster(box_, occupant_, a, ws_);
+    if (cl.rank() > 0) return false;  // a wrapped cluster is periodic: a shift changes nothing
+    const int id = label_[a];
+    std::vector<int> targets;
+    targets.reserve(cl.members.size());
+    for (const int m : cl.members) {
+        const Site c = box_.coords(m);
+        const int t = box_.index({c[0] + di, c[1] + dj, c[2]});
+        // The target and its neighbours must be empty or in the cluster itself (those sites are
+        // vacated or re-filled by it): no overlap, no new contact, so no energy change. The
+        // cluster's sites are the ones marked by the search just done.
+        if (occupant_[t] >= 0 && !ws_.seen(t)) return false;
+        for (int d = 0; d < box_.neighbours(); ++d) {
+            const int u = box_.next(t, d);
+            if (occupant_[u] >= 0 && !ws_.seen(u)) return false;
+        }
+        targets.push_back(t);
+    }
+    std::vector<int> moved(cl.members.size());
+    for (std::size_t k = 0; k < cl.members.size(); ++k) {
+        moved[k] = occupant_[cl.members[k]];
+        occupant_[cl.members[k]] = -1;
+        label_[cl.members[k]] = -1;
+    }
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+        occupant_[targets[k]] = moved[k];
+        label_[targets[k]] = id;
+        particles_[moved[k]] = targets[k];
+    }
+    ++counters.accepted;
+    ++counters.cluster_accepted;
+    return true;
+}
+
+template <class Model>
+inline bool MonteCarlo<Model>::particle_step(double T) {
+    const int p = static_cast<int>(uniform_index(particles_.size()));
+    const int a = particles_[p];
+    const int b = random_empty_site();
+
+    const int lost = occupied_neighbours(a);  // bonds of the particle at a (b is empty)
+    // The move, undone unless accepted.
+    const auto undo = [&] {
+        occupant_[b] = -1;
+        occupant_[a] = p;
+        particles_[p] = a;
+    };
+    occupant_[a] = -1;
+    occupant_[b] = p;
+    particles_[p] = b;
+    const int gained = occupied_neighbours(b);  // bonds at b (a is now empty)
+    // Delayed acceptance, first stage: the surrogate energy, without relaxation. Uniform
+    // deviates are drawn whatever the energy change, so that roundoff in an energy can never
+    // shift the random sequence.
+    const double surrogate = options_.delayed_acceptance ? -(g_ - options_.bond_deformation) * (gained - lost) : 0.0;
+    if (options_.delayed_acceptance && !metropolis(surrogate, T, uniform01())) {
+        undo();
+        ++counters.screened;
+        return false;
+    }
+    double old_deformation = 0.0, new_deformation = 0.0;
+    try {
+        if (options_.incremental) {
+            // Clusters before the move: the one left at a, and those next to b.
+            old_ids_.assign(1, label_[a]);
+            for (int d = 0; d < box_.neighbours(); ++d) {
+                const int t = box_.next(b, d);
+                if (occupant_[t] >= 0 && std::find(old_ids_.begin(), old_ids_.end(), label_[t]) == old_ids_.end())
+                    old_ids_.push_back(label_[t]);
+            }
+            for (const int id : old_ids_) old_deformation += cluster_deformation_[id];
+            // Clusters after it: the one at b (merging its neighbours), and the pieces left at a.
+            fresh_.clear();
+            fresh_energy_.clear();
+            ws_.new_round();
+            fresh_.push_back(find_cluster(box_, occupant_, b, ws_));
+            for (int d = 0; d < box_.neighbours(); ++d) {
+                const int t = box_.next(a, d);
+                if (occupant_[t] >= 0 && !ws_.seen(t)) fresh_.push_back(find_cluster(box_, occupant_, t, ws_));
+            }
+            for (const Cluster& cl : fresh_) {
+                fresh_energy_.push_back(cluster_energy(cl));
+                new_deformation += fresh_energy_.back();
+            }
+        } else {
+            old_deformation = deformation_;
+            new_deformation = scratch_deformation(true, false, false);
+        }
+    } catch (...) {
+        undo();
+        throw;
+    }
+    // Metropolis on dE (or, second stage, on dE - dE_s).
+    const double delta = -g_ * (gained - lost) + (new_deformation - old_deformation) - surrogate;
+    if (!metropolis(delta, T, uniform01())) {
+        undo();
+        return false;
+    }
+    ++counters.accepted;
+    bonds_ += gained - lost;
+    if (!options_.incremental) {
+        deformation_ = new_deformation;
+        return true;
+    }
+    deformation_ += new_deformation - old_deformation;
+    for (const int id : old_ids_) free_ids_.push_back(id);
+    for (std::size_t k = 0; k < fresh_.size(); ++k) {
+        const int id = new_cluster_id(fresh_energy_[k]);
+        for (const int m : fresh_[k].members) label_[m] = id;
+    }
+    return true;
+}
+
+template <class Model>
+inline std::int64_t MonteCarlo<Model>::run(double T, std::int64_t steps) {
+    if (!(T >= 0) || !std::isfinite(T)) throw std::invalid_argument("T must be non-negative and finite, got " + std::to_string(T));
+    std::int64_t accepted = 0;
+    for (std::int64_t k = 0; k < steps; ++k) accepted += step(T);
+    return accepted;
+}
+
+template <class Model>
+inline std::string MonteCarlo<Model>::rng_state() const {
+    std::ostringstream out;
+    out << rng_;
+    return out.str();
+}
+
+template <class Model>
+inline void MonteCarlo<Model>::set_rng_state(const std::string& state) {
+    std::istringstream in(state);
+    std::mt19937_64 r;
+    in >> r;
+    if (in.fail()) throw std::invalid_argument("rng_state: not a std::mt19937_64 state");
+    rng_ = r;
+}
 
 }  // namespace pyfrustrate

@@ -3,6 +3,11 @@
 // energy at fixed topology); the loop over particles and the period map are written once here
 // for every particle model.
 //
+// Frames. A particle's rest shape is the model's, turned by its sublattice's frame (tiling.hpp;
+// the down triangles of the triangle tiling are the up ones turned by 180 degrees): the model
+// sees its corners' displacements turned back into its own frame, and its forces and stiffness
+// are turned out again.
+//
 // Degrees of freedom. The public state is x = (corner 0 (x, y), corner 1 (x, y), ..., period-map
 // parameters); the network works on the displacement u = x - x_ref from the bulk reference
 // (Topology::reference_state). A particle is evaluated in its own frame from the displacements
@@ -201,12 +206,19 @@ double finite_energy_lanes(const Model& model, const Topology& t, const double* 
 template <class Model>
 struct Network {
     static constexpr int C = Model::kCornerCount;
-    static_assert(C == kCorners, "the particle model's corner count must match the lattice's corner slots");
+    static_assert(C == tiling_of(Model::kTiling).corners, "the particle model's corner count must match its tiling's");
     using Corners = typename Model::Corners;
     using ParticleHessian = typename Model::Hessian;
 
     const Model& model;
     const Topology& topology;
+
+    Network(const Model& model_, const Topology& topology_) : model(model_), topology(topology_) {
+        if (topology.tiling_kind != Model::kTiling)
+            throw std::invalid_argument(std::string("topology: a ") + topology.tiling().name +
+                                        " tiling cannot carry this particle, whose tiling is the " +
+                                        tiling_of(Model::kTiling).name + " one");
+    }
 
     int size() const { return 2 * topology.n_corners() + topology.n_period_parameters(); }
     int n_corner_dof() const { return 2 * topology.n_corners(); }
@@ -219,8 +231,31 @@ struct Network {
         return false;
     }
 
-    // Displacements of the corners particle p sees (periodic images applied), in its own frame.
-    Corners local_displacements(const Vector& u, const PeriodMap& map, int p) const {
+    // Particle p's frame (tiling.hpp), or nullptr where it is the identity (the common case, kept
+    // free of any arithmetic).
+    const Mat2* frame(int p) const {
+        const int sub = topology.sites[p][2];
+        return sub == 0 && topology.tiling().frame[0][0] == 1.0 ? nullptr : &frames_[sub];
+    }
+    // Corner vectors turned into (inverse: out of) the particle's frame.
+    static void turn(const Mat2* f, Corners& c, bool into) {
+        if (!f) return;
+        for (int s = 0; s < C; ++s) {
+            const Vec2 v = c.template segment<2>(2 * s);
+            c.template segment<2>(2 * s) = into ? Vec2(f->transpose() * v) : Vec2(*f * v);
+        }
+    }
+    static void turn(const Mat2* f, ParticleHessian& h) {
+        if (!f) return;
+        for (int a = 0; a < C; ++a)
+            for (int b = 0; b < C; ++b) {
+                const Mat2 block = h.template block<2, 2>(2 * a, 2 * b);
+                h.template block<2, 2>(2 * a, 2 * b) = *f * block * f->transpose();
+            }
+    }
+
+    // Displacements of the corners particle p sees (periodic images applied), in the lab frame.
+    Corners lab_displacements(const Vector& u, const PeriodMap& map, int p) const {
         Corners c;
         const auto& ids = topology.corner[p];
         const auto& images = topology.image[p];
@@ -230,12 +265,19 @@ struct Network {
         }
         return c;
     }
+    // The same in the particle's own frame: what the model evaluates.
+    Corners local_displacements(const Vector& u, const PeriodMap& map, int p) const {
+        Corners c = lab_displacements(u, map, p);
+        turn(frame(p), c, true);
+        return c;
+    }
 
-    // Corners of particle p in its own frame, for drawing: the slot offsets (the lattice's view
-    // of the model's rest shape; tests check that the two agree) plus the displacements.
+    // Corners of particle p relative to its site centre, in the lab frame, for drawing: the slot
+    // offsets (the tiling's view of the model's rest shape; tests check that the two agree) plus
+    // the displacements.
     Corners local_corners(const Vector& u, const PeriodMap& map, int p) const {
-        Corners c = local_displacements(u, map, p);
-        for (int s = 0; s < C; ++s) c.template segment<2>(2 * s) += topology.slot_offset[s];
+        Corners c = lab_displacements(u, map, p);
+        for (int s = 0; s < C; ++s) c.template segment<2>(2 * s) += topology.slot_offset[topology.sites[p][2]][s];
         return c;
     }
 
@@ -267,8 +309,11 @@ struct Network {
                     c[2 * s] = ud[2 * ids[s]];
                     c[2 * s + 1] = ud[2 * ids[s] + 1];
                 }
+                const Mat2* f = frame(p);
+                turn(f, c, true);
                 local_gradient.setZero();
                 total += model.energy_of_displacement(c, &local_gradient);
+                turn(f, local_gradient, false);
                 for (int s = 0; s < C; ++s) {
                     g[2 * ids[s]] += local_gradient[2 * s];
                     g[2 * ids[s] + 1] += local_gradient[2 * s + 1];
@@ -284,6 +329,7 @@ struct Network {
             const Corners c = local_displacements(u, map, p);
             local_gradient.setZero();
             total += model.energy_of_displacement(c, &local_gradient);
+            turn(frame(p), local_gradient, false);
             const auto& images = topology.image[p];
             for (int s = 0; s < C; ++s) {
                 const Vec2 gs = local_gradient.template segment<2>(2 * s);
@@ -364,6 +410,8 @@ struct Network {
             ParticleHessian h = ParticleHessian::Zero();
             Corners f = Corners::Zero();
             model.energy_of_displacement(c, exact ? &f : nullptr, &h);
+            turn(frame(p), f, false);
+            turn(frame(p), h);
             const bool image = has_image(p);
             if (!image) {
                 local.template topLeftCorner<2 * C, 2 * C>() = h;
@@ -405,6 +453,11 @@ struct Network {
         }
         return values;
     }
+
+   private:
+    // Each sublattice's frame as a matrix, made once.
+    std::array<Mat2, kMaxSublattices> frames_{frame_matrix(topology.tiling(), 0),
+                                              frame_matrix(topology.tiling(), topology.tiling().sublattices - 1)};
 };
 
 }  // namespace pyfrustrate

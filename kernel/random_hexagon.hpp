@@ -20,6 +20,8 @@
 namespace pyfrustrate {
 
 struct RandomHexagonModel {
+    static constexpr TilingKind kTiling = TilingKind::Hexagon;
+    static constexpr PointGroup kPointGroup = PointGroup::C3;  // M is not mirror-symmetric in general
     static constexpr int kCornerCount = 6;
     static constexpr int kDistances = 9;
     using Corners = CornerArray<6>;
@@ -75,6 +77,7 @@ struct RandomHexagonModel {
         return r;
     }
 
+    static Corners rest_corners() { return HexagonModel::rest_corners(); }
     RandomHexagonModel without_mismatch() const { return RandomHexagonModel(M, 0.0); }
 
     // d0: triangle sides 1 + eps (yellow) and 1 - eps (red); hexagon sides as in HexagonModel.

@@ -11,36 +11,21 @@
 namespace pyfrustrate {
 namespace {
 
-const double kSqrt3 = std::sqrt(3.0);
-
-// Neighbour directions of the triangular lattice, in lattice coordinates.
-constexpr std::array<LatticeVector, 6> kNeighbours{{{1, 0}, {0, 1}, {-1, 1}, {-1, 0}, {0, -1}, {1, -1}}};
-
-// Corner key: colour and lattice index of the yellow/red corner lattices (see topology.hpp).
+// Corner key: colour (which corner lattice) and cell of the corner (tiling.hpp).
 struct CornerKey {
-    int color;  // 1 yellow, 0 red
+    int color;
     int i, j;
     bool operator<(const CornerKey& o) const { return std::tie(color, i, j) < std::tie(o.color, o.i, o.j); }
 };
 
-// Slot s of the particle at (i, j): 30 R(i, j+1), 90 Y(i, j), 150 R(i-1, j+1), 210 Y(i, j-1),
-// 270 R(i, j), 330 Y(i+1, j-1).
-CornerKey corner_of(const LatticeVector& site, int slot) {
-    const int i = site[0], j = site[1];
-    switch (slot) {
-        case 0: return {0, i, j + 1};
-        case 1: return {1, i, j};
-        case 2: return {0, i - 1, j + 1};
-        case 3: return {1, i, j - 1};
-        case 4: return {0, i, j};
-        default: return {1, i + 1, j - 1};
-    }
+CornerKey corner_of(const Tiling& tiling, const Site& site, int slot) {
+    const CornerSlot& c = tiling.slot[site[2]][slot];
+    return {c.color, site[0] + c.di, site[1] + c.dj};
 }
 
 // Three times the lattice coordinates of a corner: exact integer arithmetic for the reduction.
-// Y(i, j) = (i - 1/3, j + 2/3), R(i, j) = (i + 1/3, j - 2/3) in the basis (a1, a2).
-LatticeVector thrice(const CornerKey& c) {
-    return c.color ? LatticeVector{3 * c.i - 1, 3 * c.j + 2} : LatticeVector{3 * c.i + 1, 3 * c.j - 2};
+LatticeVector thrice(const Tiling& tiling, const CornerKey& c) {
+    return {3 * c.i + tiling.corner_offset3[c.color][0], 3 * c.j + tiling.corner_offset3[c.color][1]};
 }
 
 long floor_div(long a, long b) {
@@ -77,8 +62,6 @@ LatticeVector shift(const LatticeVector& v, const LatticeVector& n, const std::a
 
 }  // namespace
 
-Vec2 site_position(const LatticeVector& s) { return {s[0] + 0.5 * s[1], 0.5 * kSqrt3 * s[1]}; }
-
 int Topology::n_period_parameters() const {
     switch (periodicity) {
         case Periodicity::Fiber: return curved ? 3 : 2;
@@ -90,8 +73,8 @@ int Topology::n_period_parameters() const {
 Eigen::VectorXd Topology::reference_period_parameters() const {
     Eigen::VectorXd p = Eigen::VectorXd::Zero(n_period_parameters());
     if (periodicity == Periodicity::None) return p;
-    p.head<2>() = site_position(periods[0]);
-    if (periodicity == Periodicity::Bulk) p.segment<2>(2) = site_position(periods[1]);
+    p.head<2>() = cell_position(periods[0]);
+    if (periodicity == Periodicity::Bulk) p.segment<2>(2) = cell_position(periods[1]);
     return p;  // a curved fibre starts straight (theta = 0)
 }
 
@@ -102,7 +85,7 @@ Eigen::VectorXd Topology::reference_state() const {
     return x;
 }
 
-Topology make_topology(const std::vector<LatticeVector>& input_sites, Periodicity periodicity,
+Topology make_topology(const Tiling& tiling, const std::vector<Site>& input_sites, Periodicity periodicity,
                        const std::array<LatticeVector, 2>& periods, bool curved) {
     if (input_sites.empty()) throw std::invalid_argument("sites: the topology is empty");
     if (curved && periodicity != Periodicity::Fiber)
@@ -113,34 +96,42 @@ Topology make_topology(const std::vector<LatticeVector>& input_sites, Periodicit
         throw std::invalid_argument("periods: the two bulk period vectors are parallel or zero");
 
     Topology t;
+    t.tiling_kind = tiling.kind;
     t.periodicity = periodicity;
     t.curved = curved;
     t.periods = periods;
 
-    std::set<LatticeVector> occupied;
+    // A site is reduced into the cell by the image of its centre.
+    auto reduce = [&](const Site& s) {
+        const LatticeVector cell = shift({s[0], s[1]}, image_of(site_centre3(tiling, s), periodicity, periods), periods);
+        return Site{cell[0], cell[1], s[2]};
+    };
+    std::set<Site> occupied;
     for (const auto& s : input_sites) {
-        const LatticeVector s3{3 * s[0], 3 * s[1]};
-        const LatticeVector reduced = shift(s, image_of(s3, periodicity, periods), periods);
+        if (s[2] < 0 || s[2] >= tiling.sublattices)
+            throw std::invalid_argument("sites: sublattice " + std::to_string(s[2]) + " does not exist in the " +
+                                        tiling.name + " tiling");
+        const Site reduced = reduce(s);
         if (!occupied.insert(reduced).second)
             throw std::invalid_argument("sites: site (" + std::to_string(s[0]) + ", " + std::to_string(s[1]) +
+                                        (tiling.sublattices > 1 ? ", " + std::to_string(s[2]) : std::string()) +
                                         ") is occupied twice (modulo the periods)");
         t.sites.push_back(reduced);
     }
 
     std::map<CornerKey, int> index;
     for (const auto& s : t.sites) {
-        std::array<int, kCorners> ids{};
-        std::array<LatticeVector, kCorners> images{};
-        for (int slot = 0; slot < kCorners; ++slot) {
-            CornerKey key = corner_of(s, slot);
-            const LatticeVector n = image_of(thrice(key), periodicity, periods);
+        std::array<int, kMaxCorners> ids{};
+        std::array<LatticeVector, kMaxCorners> images{};
+        for (int slot = 0; slot < tiling.corners; ++slot) {
+            CornerKey key = corner_of(tiling, s, slot);
+            const LatticeVector n = image_of(thrice(tiling, key), periodicity, periods);
             const LatticeVector ij = shift({key.i, key.j}, n, periods);
             key.i = ij[0];
             key.j = ij[1];
             auto [it, inserted] = index.emplace(key, static_cast<int>(t.reference.size()));
             if (inserted) {
-                const Vec2 offset(0.0, (key.color ? 1.0 : -1.0) / kSqrt3);
-                t.reference.push_back(site_position({key.i, key.j}) + offset);
+                t.reference.push_back(cartesian3(thrice(tiling, key)));
                 t.corner_color.push_back(key.color);
             }
             ids[slot] = it->second;
@@ -150,10 +141,12 @@ Topology make_topology(const std::vector<LatticeVector>& input_sites, Periodicit
         t.image.push_back(images);
     }
 
-    for (int slot = 0; slot < kCorners; ++slot) {
-        const CornerKey key = corner_of({0, 0}, slot);
-        t.slot_offset[slot] = site_position({key.i, key.j}) + Vec2(0.0, (key.color ? 1.0 : -1.0) / kSqrt3);
-    }
+    for (int sub = 0; sub < tiling.sublattices; ++sub)
+        for (int slot = 0; slot < tiling.corners; ++slot) {
+            const Site origin{0, 0, sub};
+            t.slot_offset[sub][slot] =
+                cartesian3(thrice(tiling, corner_of(tiling, origin, slot))) - site_position(tiling, origin);
+        }
     for (const auto& images : t.image)
         for (const auto& n : images) t.max_image = std::max({t.max_image, std::abs(n[0]), std::abs(n[1])});
 
@@ -167,11 +160,7 @@ Topology make_topology(const std::vector<LatticeVector>& input_sites, Periodicit
 
     int directed_bonds = 0;
     for (const auto& s : t.sites)
-        for (const auto& d : kNeighbours) {
-            const LatticeVector nb{s[0] + d[0], s[1] + d[1]};
-            const LatticeVector nb3{3 * nb[0], 3 * nb[1]};
-            if (occupied.count(shift(nb, image_of(nb3, periodicity, periods), periods))) ++directed_bonds;
-        }
+        for (int d = 0; d < tiling.neighbours; ++d) directed_bonds += occupied.count(reduce(neighbour_of(tiling, s, d)));
     t.n_bonds = directed_bonds / 2;
     return t;
 }

@@ -1,12 +1,17 @@
-"""Aggregate topologies on the triangular particle lattice (main text, "Two-dimensional particle
-model"): which sites are occupied, and which periodic cell stands for an infinite scene.
+"""Aggregate topologies (main text, "Two-dimensional particle model"): which sites of a tiling are
+occupied, and which periodic cell stands for an infinite scene.
 
-Sites ``(i, j)`` sit at ``i a1 + j a2`` with ``a1 = (1, 0)``, ``a2 = (1/2, sqrt(3)/2)``
-(lattice spacing 1, area ``sqrt(3)/2`` per particle). Model only what the scene requires: an
-infinite fibre is one period of the strip, an infinite bulk one cell of the plane.
+Every builder takes the tiling through one keyword, ``tiling="hexagon"`` (default, the paper's
+particle) or ``"triangle"`` (supplement, Fig. S6). The kernel owns each tiling's geometry
+(``tiling_facts``): cells ``(i, j)`` at ``i a1 + j a2`` with ``a1 = (1, 0)``,
+``a2 = (1/2, sqrt(3)/2)``; a hexagon tiling has one site per cell (sites ``(i, j)``, area
+``sqrt(3)/2`` per particle, six neighbours), a triangle tiling two (sites ``(i, j, s)``, ``s = 0``
+the up triangle ``(i, j), (i+1, j), (i, j+1)``, ``s = 1`` the down one; area ``sqrt(3)/4`` per
+particle, three neighbours). Model only what the scene requires: an infinite fibre is one period
+of the strip, an infinite bulk one cell of the plane.
 
-Fibre cuts (Fig. 4a has three kinds of fibres; the paper does not say which the third is:
-this is our choice):
+Hexagon fibre cuts (Fig. 4a has three kinds of fibres; the paper does not say which the third
+is: this is our choice):
 
 ========  ====================  ====================================================
 ``cut``   axis (lattice)        edges
@@ -21,10 +26,26 @@ this is our choice):
 continuum width is ``W = width * sqrt(3)/2 / |axis|`` (area per unit length).
 The hexagonal aggregate ``disk(R)`` has ``1 + 3 R (R + 1)`` particles; its continuum radius is
 that of the disk of equal area, ``sqrt(N sqrt(3) / (2 pi))``.
+
+Triangle fibre cuts (supplement, Fig. S6e; a reconstruction, the panel's design being lost):
+
+========  ====================  ====================================================
+``cut``   axis (lattice)        edges; ``width``
+========  ====================  ====================================================
+0         ``a1`` (0 degrees)    flat on both sides; ``width`` whole rows (2 width particles
+                                per period)
+1         ``a1`` (0 degrees)    one flat, one sawtooth edge: ``width`` rows and the up
+                                triangles of the next (2 width + 1 per period)
+2         ``-a1 + 2 a2`` (90)   zig-zag; ``width`` columns of triangles (2 width per period)
+========  ====================  ====================================================
+
+The triangle ``disk(R)`` is the hexagon of side ``R`` around a vertex (``6 R^2`` particles;
+``disk(0)`` is a single particle); its continuum radius that of the disk of equal area.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from math import gcd
 
 import numpy as np
@@ -32,16 +53,67 @@ import numpy as np
 from . import _kernel
 
 SQRT3 = np.sqrt(3.0)
-AREA_PER_PARTICLE = SQRT3 / 2
-FIBER_AXES = {0: (1, 0), 1: (-1, 2), 2: (2, 1)}
-NEIGHBOURS = np.array([(1, 0), (0, 1), (-1, 1), (-1, 0), (0, -1), (1, -1)])
+TILINGS = ("hexagon", "triangle")
 _PERIODICITY = {"none": 0, "fiber": 1, "bulk": 2}
 
 
-def site_positions(sites) -> np.ndarray:
-    """Cartesian positions of lattice sites, shape (n, 2)."""
-    s = np.asarray(sites, dtype=float).reshape(-1, 2)
+@lru_cache(maxsize=None)
+def tiling_facts(tiling: str = "hexagon") -> dict:
+    """What the kernel knows of a tiling (``kernel/tiling.hpp``): ``sublattices``, ``corners`` per
+    particle, ``coordination`` (edge neighbours per site), ``bulk_bonds_per_particle``,
+    ``neighbours`` (per sublattice, ``(di, dj, sublattice)``), ``slot_offsets`` (corner positions
+    from the site centre, per sublattice), ``frames`` (rotation of each sublattice's particles),
+    ``site_offsets``. The one definition of each, asked for rather than copied."""
+    if tiling not in TILINGS:
+        raise ValueError(f"tiling must be one of {TILINGS}, got {tiling!r}")
+    return _kernel.tiling(tiling)
+
+
+def site_columns(tiling: str = "hexagon") -> int:
+    """Columns of a site array: 2 (``i, j``) for the hexagon tiling, 3 (``i, j, sublattice``) for the triangle one."""
+    return 3 if tiling_facts(tiling)["sublattices"] > 1 else 2
+
+
+def area_per_particle(tiling: str = "hexagon") -> float:
+    """Area of one site: ``sqrt(3)/2`` per cell, shared by the cell's sites."""
+    return float(SQRT3 / 2 / tiling_facts(tiling)["sublattices"])
+
+
+AREA_PER_PARTICLE = SQRT3 / 2  # hexagon tiling
+FIBER_AXES = {0: (1, 0), 1: (-1, 2), 2: (2, 1)}  # hexagon tiling
+TRIANGLE_FIBER_AXES = {0: (1, 0), 1: (1, 0), 2: (-1, 2)}
+
+
+def fiber_axis(cut: int, tiling: str = "hexagon") -> tuple[int, int]:
+    """Lattice axis of a fibre cut (module docstring)."""
+    axes = FIBER_AXES if tiling == "hexagon" else TRIANGLE_FIBER_AXES
+    if cut not in axes:
+        raise ValueError(f"cut must be 0, 1 or 2, got {cut!r}")
+    return axes[cut]
+
+
+def cell_positions(cells) -> np.ndarray:
+    """Cartesian positions of lattice cells ``(i, j)`` (any real coordinates), shape (n, 2)."""
+    s = np.asarray(cells, dtype=float).reshape(-1, 2)
     return np.column_stack([s[:, 0] + 0.5 * s[:, 1], 0.5 * SQRT3 * s[:, 1]])
+
+
+def site_positions(sites, tiling: str = "hexagon") -> np.ndarray:
+    """Cartesian centres of sites, shape (n, 2)."""
+    if tiling == "hexagon":
+        return cell_positions(sites)
+    sites = np.asarray(sites, dtype=np.int32).reshape(-1, site_columns(tiling))
+    return np.asarray(_kernel.site_positions(tiling, sites))
+
+
+def neighbour_sites(site, tiling: str = "hexagon") -> list[tuple]:
+    """The edge neighbours of one site, as tuples (the kernel's table)."""
+    site = tuple(int(v) for v in site)
+    sub = site[2] if len(site) == 3 else 0
+    out = []
+    for di, dj, s in tiling_facts(tiling)["neighbours"][sub]:
+        out.append((site[0] + di, site[1] + dj, s) if len(site) == 3 else (site[0] + di, site[1] + dj))
+    return out
 
 
 @dataclass(frozen=True)
@@ -74,14 +146,16 @@ class Topology:
     curved: bool = False
     size: float = float("nan")
     label: str = ""
+    tiling: str = "hexagon"
     kernel: object = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
         sites = np.asarray(self.sites)
         if sites.size == 0:
             raise ValueError("sites: the topology is empty")
-        if sites.ndim != 2 or sites.shape[1] != 2:
-            raise ValueError(f"sites must have shape (n, 2), got {sites.shape}")
+        columns = site_columns(self.tiling)
+        if sites.ndim != 2 or sites.shape[1] != columns:
+            raise ValueError(f"sites must have shape (n, {columns}) for the {self.tiling} tiling, got {sites.shape}")
         if not np.all(np.isfinite(sites)) or not np.all(np.equal(np.mod(sites, 1), 0)):
             raise ValueError("sites must be integer lattice coordinates (i, j): a site is off the lattice")
         sites = sites.astype(np.int64)
@@ -89,7 +163,8 @@ class Topology:
             raise ValueError("sites: coordinates beyond 1e6 are not supported")
         object.__setattr__(self, "sites", sites.astype(np.int32))
         object.__setattr__(self, "periods", np.asarray(self.periods, dtype=np.int32).reshape(2, 2))
-        kernel = _kernel.Topology(self.sites, _PERIODICITY[self.periodicity], self.periods.tolist(), bool(self.curved))
+        kernel = _kernel.Topology(self.tiling, self.sites, _PERIODICITY[self.periodicity], self.periods.tolist(),
+                                  bool(self.curved))
         object.__setattr__(self, "kernel", kernel)
 
     @property
@@ -110,14 +185,24 @@ class Topology:
         return np.asarray(self.kernel.reference_state())
 
 
-def cluster(sites, label: str = "cluster") -> Topology:
-    """A finite aggregate: any set of distinct sites, shape (n, 2)."""
+NEIGHBOURS = np.array([(di, dj) for di, dj, _ in tiling_facts("hexagon")["neighbours"][0]])  # hexagon tiling
+
+
+def _site_array(sites, tiling: str) -> np.ndarray:
     sites = np.asarray(sites)
+    columns = site_columns(tiling)
     if sites.size == 0:
         raise ValueError("sites: the topology is empty")
-    if sites.ndim != 2 or sites.shape[1] != 2:
-        raise ValueError(f"sites must have shape (n, 2) (lattice coordinates i, j), got {sites.shape}")
-    return Topology("cluster", sites, label=label)
+    if sites.ndim != 2 or sites.shape[1] != columns:
+        names = "i, j, sublattice" if columns == 3 else "i, j"
+        raise ValueError(f"sites must have shape (n, {columns}) ({names}) for the {tiling} tiling, got {sites.shape}")
+    return sites
+
+
+def cluster(sites, label: str = "cluster", tiling: str = "hexagon") -> Topology:
+    """A finite aggregate: any set of distinct sites, shape (n, 2) (hexagons) or (n, 3) (triangles)."""
+    tiling_facts(tiling)
+    return Topology("cluster", _site_array(sites, tiling), label=label, tiling=tiling)
 
 
 def hexagon_sites(R: int) -> np.ndarray:
@@ -128,12 +213,32 @@ def hexagon_sites(R: int) -> np.ndarray:
     return np.column_stack([i[keep], j[keep]])
 
 
-def disk(R: int) -> Topology:
-    """Hexagonal aggregate of 'radius' ``R`` (``R = 0`` is a single particle)."""
+def triangle_hexagon_sites(R: int) -> np.ndarray:
+    """Triangles inside the hexagon of side ``R`` around the vertex (0, 0): ``6 R^2`` of them,
+    those whose three vertices lie within hexagonal distance ``R`` of it."""
+    r = np.arange(-R - 1, R + 1)
+    i, j = (a.ravel() for a in np.meshgrid(r, r, indexing="ij"))
+
+    def inside(a, b):
+        return np.maximum(np.maximum(np.abs(a), np.abs(b)), np.abs(a + b)) <= R
+
+    up = inside(i, j) & inside(i + 1, j) & inside(i, j + 1)
+    down = inside(i + 1, j + 1) & inside(i, j + 1) & inside(i + 1, j)
+    return np.concatenate([np.column_stack([i[up], j[up], np.zeros(up.sum(), int)]),
+                           np.column_stack([i[down], j[down], np.ones(down.sum(), int)])])
+
+
+def disk(R: int, tiling: str = "hexagon") -> Topology:
+    """Compact aggregate of 'radius' ``R`` (``R = 0`` is a single particle): the hexagon of radius
+    ``R`` around a site (hexagons) or of side ``R`` around a vertex (triangles)."""
     if int(R) != R or R < 0:
         raise ValueError(f"R must be a non-negative integer, got {R!r}")
-    sites = hexagon_sites(int(R))
-    return Topology("disk", sites, size=float(np.sqrt(len(sites) * AREA_PER_PARTICLE / np.pi)), label=f"disk R={R}")
+    if tiling_facts(tiling)["sublattices"] == 1:
+        sites = hexagon_sites(int(R))
+    else:
+        sites = triangle_hexagon_sites(int(R)) if R > 0 else np.array([[0, 0, 0]])
+    return Topology("disk", sites, size=float(np.sqrt(len(sites) * area_per_particle(tiling) / np.pi)),
+                    label=f"disk R={R}", tiling=tiling)
 
 
 def stadium_sites(n: int, segment: float = 0.0) -> np.ndarray:
@@ -162,12 +267,12 @@ def stadium_sites(n: int, segment: float = 0.0) -> np.ndarray:
     return sites[order[:n]]
 
 
-def gyration_dimensions(sites) -> tuple[float, float]:
+def gyration_dimensions(sites, tiling: str = "hexagon") -> tuple[float, float]:
     """Width and length of an aggregate from its gyration tensor: ``sqrt(12 lambda)`` for its two
     eigenvalues, which are exactly the sides of a uniform rectangle (a compact disk of radius
     ``R`` gives ``sqrt(3) R`` both ways). Orientation-free, so it measures Monte Carlo
     aggregates and pre-made ones alike."""
-    xy = site_positions(sites)
+    xy = site_positions(sites, tiling)
     if len(xy) < 2:
         return 0.0, 0.0
     xy = xy - xy.mean(axis=0)
@@ -188,64 +293,90 @@ def _line_representative(axis) -> np.ndarray:
     raise AssertionError("unreachable for a primitive axis")
 
 
-def _strip_is_connected(sites: np.ndarray, axis) -> bool:
+def _strip_is_connected(sites: np.ndarray, axis, tiling: str = "hexagon") -> bool:
     """Whether the infinite strip generated by repeating ``sites`` along ``axis`` is connected:
     every site of the cell reaches its own next image through bonds."""
     axis = np.asarray(axis)
+    shift = np.zeros(sites.shape[1], int)
+    shift[:2] = axis
     copies = 4  # a band of consecutive lattice lines connects within neighbouring copies
-    points = {tuple(s + m * axis): (i, m) for m in range(-copies, copies + 1) for i, s in enumerate(sites)}
+    points = {tuple(s + m * shift) for m in range(-copies, copies + 1) for s in sites}
     seen, frontier = {tuple(sites[0])}, [tuple(sites[0])]
     while frontier:
-        here = np.array(frontier.pop())
-        for d in NEIGHBOURS:
-            there = tuple(here + d)
+        for there in neighbour_sites(frontier.pop(), tiling):
             if there in points and there not in seen:
                 seen.add(there)
                 frontier.append(there)
-    return all(tuple(s) in seen and tuple(s + axis) in seen for s in sites)
+    return all(tuple(s) in seen and tuple(s + shift) in seen for s in sites)
 
 
-def min_fiber_width(cut: int) -> int:
-    """Narrowest connected fibre of a cut: 1 for cut 0, 2 for cut 1 (a single zig-zag column
-    has its particles sqrt(3) apart), 3 for cut 2."""
+def _triangle_fiber_sites(width: int, cut: int) -> np.ndarray:
+    """One period of a triangle fibre (module docstring): rows along a1 (cuts 0, 1), columns
+    along -a1 + 2 a2 (cut 2)."""
+    if cut in (0, 1):
+        rows = [(0, j, s) for j in range(width) for s in (0, 1)]
+        return np.array(rows + ([(0, width, 0)] if cut == 1 else []))
+    # Column c holds the triangles whose centres have x = (c + 1) / 2, one up and one down per
+    # period (0, sqrt 3): the sites of centre x in [1/2, (width + 1)/2) and y in [0, sqrt 3).
+    r = np.arange(-2 * width - 4, 2 * width + 5)
+    i, j = (a.ravel() for a in np.meshgrid(r, r, indexing="ij"))
+    sites = np.concatenate([np.column_stack([i, j, np.zeros_like(i)]), np.column_stack([i, j, np.ones_like(i)])])
+    xy = site_positions(sites, "triangle")
+    keep = (xy[:, 0] > 0.25) & (xy[:, 0] < (width + 1) / 2 - 0.25) & (xy[:, 1] > -1e-9) & (xy[:, 1] < SQRT3 - 1e-9)
+    return sites[keep]
+
+
+def min_fiber_width(cut: int, tiling: str = "hexagon") -> int:
+    """Narrowest connected fibre of a cut. Hexagons: 1 for cut 0, 2 for cut 1 (a single
+    zig-zag column has its particles sqrt(3) apart), 3 for cut 2. Triangles: 1, 1, 2 (a single
+    column of triangles touches only at corners)."""
     width = 1
-    while not _strip_is_connected(np.outer(np.arange(width), _line_representative(FIBER_AXES[cut])), FIBER_AXES[cut]):
+    while not _strip_is_connected(_fiber_cell(width, cut, tiling), fiber_axis(cut, tiling), tiling):
         width += 1
     return width
 
 
-def fiber(width: int, cut: int = 0, curved: bool = True) -> Topology:
-    """Infinite straight-cut fibre, as one periodic cell of ``width`` particles.
+def _fiber_cell(width: int, cut: int, tiling: str) -> np.ndarray:
+    if tiling == "hexagon":
+        return np.outer(np.arange(width), _line_representative(fiber_axis(cut, tiling)))
+    return _triangle_fiber_sites(width, cut)
 
-    ``cut`` selects the axis (module docstring). With ``curved=True`` (default) successive images
-    are related by a rigid motion with a free angle, so an asymmetric fibre takes the constant
-    curvature it prefers; ``curved=False`` keeps it straight (its length still relaxes).
+
+def fiber(width: int, cut: int = 0, curved: bool = True, tiling: str = "hexagon") -> Topology:
+    """Infinite straight-cut fibre, as one periodic cell of ``width`` lattice lines.
+
+    ``cut`` selects the axis and edges (module docstring). With ``curved=True`` (default)
+    successive images are related by a rigid motion with a free angle, so an asymmetric fibre
+    takes the constant curvature it prefers; ``curved=False`` keeps it straight (its length still
+    relaxes).
     """
-    if cut not in FIBER_AXES:
-        raise ValueError(f"cut must be 0, 1 or 2, got {cut!r}")
+    tiling_facts(tiling)
+    axis = fiber_axis(cut, tiling)
     if int(width) != width or width < 1:
         raise ValueError(f"width must be a positive integer, got {width!r}")
-    axis = FIBER_AXES[cut]
-    step = _line_representative(axis)
-    sites = np.outer(np.arange(int(width)), step)
-    if not _strip_is_connected(sites, axis):
+    sites = _fiber_cell(int(width), cut, tiling)
+    if not _strip_is_connected(sites, axis, tiling):
         raise ValueError(f"width {width} is too narrow for cut {cut}: the strip falls apart "
-                         f"(the narrowest connected one has width {min_fiber_width(cut)})")
-    length = np.linalg.norm(site_positions([axis])[0])
+                         f"(the narrowest connected one has width {min_fiber_width(cut, tiling)})")
+    length = np.linalg.norm(cell_positions([axis])[0])
     return Topology("fiber", sites, "fiber", [axis, (0, 0)], curved=curved,
-                    size=float(width * AREA_PER_PARTICLE / length),
-                    label=f"fibre cut {cut} width {width}" + ("" if curved else " (straight)"))
+                    size=float(len(sites) * area_per_particle(tiling) / length),
+                    label=f"fibre cut {cut} width {width}" + ("" if curved else " (straight)"), tiling=tiling)
 
 
-def bulk() -> Topology:
-    """The infinite bulk, as a one-particle periodic cell."""
-    return Topology("bulk", [[0, 0]], "bulk", [(1, 0), (0, 1)], size=float("inf"), label="bulk")
+def bulk(tiling: str = "hexagon") -> Topology:
+    """The infinite bulk, as a one-cell periodic cell (one hexagon, or an up and a down triangle)."""
+    sites = [[0, 0]] if site_columns(tiling) == 2 else [[0, 0, 0], [0, 0, 1]]
+    return Topology("bulk", sites, "bulk", [(1, 0), (0, 1)], size=float("inf"), label="bulk", tiling=tiling)
 
 
-# Hole patterns: (periods, occupied sites of the cell). 'honeycomb' removes one site in three
-# (a sqrt(3) x sqrt(3) superlattice): no three particles share a corner, so every particle can
-# keep its rest shape (zero deformation energy). 'kagome' removes one site in four, 'sqrt7'
-# one in seven (isolated vacancies): more bonds, but particles must deform.
+# Hole patterns: (periods, occupied sites of the cell), per tiling. Hexagons: 'honeycomb'
+# removes one site in three (a sqrt(3) x sqrt(3) superlattice): no three particles share a
+# corner, so every particle can keep its rest shape (zero deformation energy). 'kagome' removes
+# one site in four, 'sqrt7' one in seven (isolated vacancies): more bonds, but particles must
+# deform. Triangles (for completeness: no bulk with holes can win there, as any bound pair
+# already costs energy): 'vacancy3' removes one triangle in six, 'vacancy4' one in eight,
+# 'hexagonal' the six triangles around one vertex in eighteen.
 HOLE_PATTERNS = {
     "honeycomb": ([(1, 1), (-1, 2)], [(1, 0), (0, 1)]),
     "kagome": ([(2, 0), (0, 2)], [(1, 0), (0, 1), (1, 1)]),
@@ -253,14 +384,48 @@ HOLE_PATTERNS = {
 }
 
 
-def bulk_with_holes(pattern: str = "honeycomb") -> Topology:
-    """A periodic bulk with a regular pattern of holes (``HOLE_PATTERNS``)."""
-    if pattern not in HOLE_PATTERNS:
-        raise ValueError(f"pattern must be one of {sorted(HOLE_PATTERNS)}, got {pattern!r}")
-    periods, sites = HOLE_PATTERNS[pattern]
-    return Topology("bulk_with_holes", sites, "bulk", periods, size=float("inf"), label=f"bulk with holes ({pattern})")
+def _triangle_cell(periods, removed) -> tuple:
+    (a, b), (c, d) = periods
+    n_cells = abs(a * d - b * c)
+    sites, seen = [], set()
+    span = range(-abs(a) - abs(c) - 1, abs(a) + abs(c) + 2)
+    for i in span:
+        for j in range(-abs(b) - abs(d) - 1, abs(b) + abs(d) + 2):
+            # reduce cell (i, j) into the cell spanned by the periods (fractional coordinates)
+            det = a * d - b * c
+            s = (i * d - j * c) / det
+            t = (a * j - b * i) / det
+            if 0 <= s < 1 and 0 <= t < 1 and (i, j) not in seen:
+                seen.add((i, j))
+                sites += [(i, j, 0), (i, j, 1)]
+    assert len(seen) == n_cells
+    return periods, [x for x in sites if x not in set(removed)]
 
 
-def periodic(sites, periods, label: str = "periodic") -> Topology:
+TRIANGLE_HOLE_PATTERNS = {
+    "vacancy3": _triangle_cell([(1, 1), (-1, 2)], [(0, 0, 0)]),
+    "vacancy4": _triangle_cell([(2, 0), (0, 2)], [(0, 0, 0)]),
+    "hexagonal": _triangle_cell([(3, 0), (0, 3)], [(1, 1, 0), (0, 1, 0), (1, 0, 0), (0, 0, 1), (1, 0, 1), (0, 1, 1)]),
+}
+
+
+def hole_patterns(tiling: str = "hexagon") -> dict:
+    """The hole patterns of a tiling (``HOLE_PATTERNS`` or ``TRIANGLE_HOLE_PATTERNS``)."""
+    tiling_facts(tiling)
+    return HOLE_PATTERNS if tiling == "hexagon" else TRIANGLE_HOLE_PATTERNS
+
+
+def bulk_with_holes(pattern: str = "honeycomb", tiling: str = "hexagon") -> Topology:
+    """A periodic bulk with a regular pattern of holes (``hole_patterns(tiling)``)."""
+    patterns = hole_patterns(tiling)
+    if pattern not in patterns:
+        raise ValueError(f"pattern must be one of {sorted(patterns)} for the {tiling} tiling, got {pattern!r}")
+    periods, sites = patterns[pattern]
+    return Topology("bulk_with_holes", sites, "bulk", periods, size=float("inf"), label=f"bulk with holes ({pattern})",
+                    tiling=tiling)
+
+
+def periodic(sites, periods, label: str = "periodic", tiling: str = "hexagon") -> Topology:
     """Any periodic bulk cell: ``sites`` of the cell spanned by the two lattice ``periods``."""
-    return Topology("bulk_with_holes", np.asarray(sites).reshape(-1, 2), "bulk", periods, size=float("inf"), label=label)
+    sites = np.asarray(sites).reshape(-1, site_columns(tiling))
+    return Topology("bulk_with_holes", sites, "bulk", periods, size=float("inf"), label=label, tiling=tiling)

@@ -1,38 +1,28 @@
-// Bindings of the Monte Carlo annealing (montecarlo.hpp) for the hexagonal particle.
-#include "hexagon.hpp"
+// Bindings of the Monte Carlo annealing (montecarlo.hpp): one class per particle model from
+// this one template, and the factory _kernel.MonteCarlo(model, ...) overloaded on the model.
+#pragma once
+
+#include "bind_sites.hpp"
 #include "montecarlo.hpp"
 
 #include <pybind11/numpy.h>
-#include <cmath>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-namespace py = pybind11;
-using namespace pyfrustrate;
+#include <cmath>
 
-namespace {
+namespace pyfrustrate {
 
-using HexagonMC = MonteCarlo<HexagonModel>;
-using IntArray = py::array_t<int, py::array::c_style | py::array::forcecast>;
-
-std::vector<LatticeVector> site_list(const IntArray& sites) {
-    if (sites.ndim() != 2 || sites.shape(1) != 2) throw std::invalid_argument("sites must be an integer array of shape (n, 2)");
-    std::vector<LatticeVector> out(sites.shape(0));
-    auto r = sites.unchecked<2>();
-    for (py::ssize_t k = 0; k < sites.shape(0); ++k) out[k] = {r(k, 0), r(k, 1)};
-    return out;
-}
-
-py::dict counters_dict(const MonteCarloCounters& c) {
-    py::dict d;
+inline pybind11::dict counters_dict(const MonteCarloCounters& c) {
+    pybind11::dict d;
     d["attempted"] = c.attempted;
     d["accepted"] = c.accepted;
     d["screened"] = c.screened;
     d["cluster_attempted"] = c.cluster_attempted;
     d["cluster_accepted"] = c.cluster_accepted;
-    d["cache_hits"] = c.cache_hits;
-    d["cache_misses"] = c.cache_misses;
-    d["cache_clears"] = c.cache_clears;
+    d["cache_hits"] = c.cache.hits;
+    d["cache_misses"] = c.cache.misses;
+    d["cache_clears"] = c.cache.clears;
     d["minimisations"] = c.relax.minimisations;
     d["evaluations"] = c.relax.evaluations;
     d["fallbacks"] = c.relax.fallbacks;
@@ -40,15 +30,17 @@ py::dict counters_dict(const MonteCarloCounters& c) {
     return d;
 }
 
-}  // namespace
 
-void export_montecarlo(py::module_& m) {
-    py::class_<HexagonMC>(m, "MonteCarlo",
-                          "Metropolis Monte Carlo on the topology of N hexagons in a periodic L x L box of the "
-                          "triangular lattice (main text, 'Monte-Carlo validation of the phase diagram'). Energy = "
-                          "sum over clusters of -g * bonds + relaxed deformation energy; relaxed energies are cached "
-                          "by shape up to translations and D3.")
-        .def(py::init([](const HexagonModel& model, double g, int box, int n, std::uint64_t seed, const std::string& method,
+template <class Model>
+void export_montecarlo(pybind11::module_& m, const char* class_name) {
+    namespace py = pybind11;
+    using MC = MonteCarlo<Model>;
+    py::class_<MC>(m, class_name,
+                   "Metropolis Monte Carlo on the topology of N particles in a periodic L x L box of cells of the "
+                   "particle's tiling (main text, 'Monte-Carlo validation of the phase diagram'). Energy = sum over "
+                   "clusters of -g * bonds + relaxed deformation energy; relaxed energies are cached by shape up to "
+                   "translations and the symmetries the particle and the tiling share.")
+        .def(py::init([](const Model& model, double g, int box, int n, std::uint64_t seed, const std::string& method,
                          double tol, int max_iter, bool cache, bool warm_start, bool incremental, std::size_t cache_limit,
                          bool delayed_acceptance, double bond_deformation, double cluster_moves) {
                  MonteCarloOptions o;
@@ -71,7 +63,7 @@ void export_montecarlo(py::module_& m) {
                  if (!(cluster_moves >= 0 && cluster_moves <= 1))
                      throw std::invalid_argument("cluster_moves must lie in [0, 1], got " + std::to_string(cluster_moves));
                  o.cluster_moves = cluster_moves;
-                 return new HexagonMC(model, g, box, n, seed, o);
+                 return new MC(model, g, box, n, seed, o);
              }),
              py::arg("model"), py::arg("g"), py::arg("box"), py::arg("n"), py::arg("seed"), py::arg("method") = "linear",
              py::arg("tol") = 1e-7, py::arg("max_iter") = 100000, py::arg("cache") = true, py::arg("warm_start") = true,
@@ -84,7 +76,7 @@ void export_montecarlo(py::module_& m) {
              "unchanged, rejected on any overlap or new contact); incremental=False re-minimises every cluster of the box on every move.")
         .def(
             "run",
-            [](HexagonMC& mc, py::array_t<double, py::array::c_style | py::array::forcecast> temperatures,
+            [](MC& mc, py::array_t<double, py::array::c_style | py::array::forcecast> temperatures,
                py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> steps, bool record_sites) {
                 if (temperatures.ndim() != 1 || steps.ndim() != 1 || temperatures.shape(0) != steps.shape(0))
                     throw std::invalid_argument("temperatures and steps must be 1D arrays of equal length");
@@ -123,62 +115,57 @@ void export_montecarlo(py::module_& m) {
             py::arg("temperatures"), py::arg("steps"), py::arg("record_sites") = false,
             "Runs blocks of steps[k] attempted moves at temperatures[k] (GIL released). Returns a dict: energy (B,) "
             "after each block, accepted (B,) moves per block, and with record_sites the sorted occupied site indices "
-            "(B, n) (site index i + L j) after each block.")
-        .def("step", &HexagonMC::step, py::arg("T"), "One attempted move; True if accepted.")
-        .def_property_readonly("energy", &HexagonMC::energy, "Running energy: -g * bonds + deformation.")
-        .def_property_readonly("deformation", &HexagonMC::deformation, "Running sum of relaxed deformation energies.")
-        .def_property_readonly("bonds", &HexagonMC::bonds, "Bound pairs of sides in the box.")
-        .def_property_readonly("g", &HexagonMC::g)
-        .def_property_readonly("n", &HexagonMC::n)
-        .def_property_readonly("box", [](const HexagonMC& mc) { return mc.box().L; })
-        .def("box_energy", &HexagonMC::box_energy, py::arg("canonical") = true,
+            "(B, n) (site index sublattice + S (i + L j) for S sublattices per cell) after each block.")
+        .def("step", &MC::step, py::arg("T"), "One attempted move; True if accepted.")
+        .def_property_readonly("energy", &MC::energy, "Running energy: -g * bonds + deformation.")
+        .def_property_readonly("deformation", &MC::deformation, "Running sum of relaxed deformation energies.")
+        .def_property_readonly("bonds", &MC::bonds, "Bound pairs of sides in the box.")
+        .def_property_readonly("g", &MC::g)
+        .def_property_readonly("n", &MC::n)
+        .def_property_readonly("box", [](const MC& mc) { return mc.box().L; })
+        .def("box_energy", &MC::box_energy, py::arg("canonical") = true,
              "Energy recomputed from scratch over every cluster, without the cache (canonical=False: from the "
              "sites as they lie, not from the canonical representative of each shape).")
         .def_property_readonly(
             "particles",
-            [](const HexagonMC& mc) {
-                py::array_t<int> a(std::vector<py::ssize_t>{mc.n(), 2});
-                auto w = a.mutable_unchecked<2>();
-                for (int p = 0; p < mc.n(); ++p) {
-                    const LatticeVector c = mc.box().coords(mc.particles()[p]);
-                    w(p, 0) = c[0], w(p, 1) = c[1];
-                }
-                return a;
+            [](const MC& mc) {
+                std::vector<Site> sites;
+                for (const int s : mc.particles()) sites.push_back(mc.box().coords(s));
+                return sites_to_array(*mc.box().tiling, sites);
             },
-            "(n, 2) lattice coordinates (0 <= i, j < box) of each particle, in particle order.")
-        .def("place", [](HexagonMC& mc, const IntArray& sites) { mc.place(site_list(sites)); }, py::arg("sites"),
-             "Puts particle p on sites[p] (shape (n, 2), reduced modulo the box); energy from scratch.")
-        .def_property("rng_state", &HexagonMC::rng_state, &HexagonMC::set_rng_state,
+            "(n, 2) cells (0 <= i, j < box) of each particle, in particle order; (n, 3) with the sublattice for "
+            "tilings with several.")
+        .def("place", [](MC& mc, const SiteArray& sites) { mc.place(sites_from_array(*mc.box().tiling, sites)); },
+             py::arg("sites"), "Puts particle p on sites[p] (as `particles`, reduced modulo the box); energy from scratch.")
+        .def_property_readonly("shape_symmetries", &MC::shape_symmetries,
+                               "Lattice point operations under which cluster shapes share their energy (shape_key.hpp).")
+        .def_property("rng_state", &MC::rng_state, &MC::set_rng_state,
                       "State of the std::mt19937_64 as its stream representation.")
-        .def("set_deformation", &HexagonMC::set_deformation, py::arg("deformation"),
+        .def("set_deformation", &MC::set_deformation, py::arg("deformation"),
              "Overrides the running deformation sum (exact resumption from a checkpoint).")
         .def_property(
-            "counters", [](const HexagonMC& mc) { return counters_dict(mc.counters); },
-            [](HexagonMC& mc, const py::dict& d) {
+            "counters", [](const MC& mc) { return counters_dict(mc.counters); },
+            [](MC& mc, const py::dict& d) {
                 auto get = [&](const char* k) { return d.contains(k) ? d[k].cast<std::int64_t>() : std::int64_t(0); };
                 MonteCarloCounters& c = mc.counters;
                 c.attempted = get("attempted"), c.accepted = get("accepted"), c.screened = get("screened");
                 c.cluster_attempted = get("cluster_attempted"), c.cluster_accepted = get("cluster_accepted");
-                c.cache_hits = get("cache_hits"), c.cache_misses = get("cache_misses"), c.cache_clears = get("cache_clears");
+                c.cache.hits = get("cache_hits"), c.cache.misses = get("cache_misses"), c.cache.clears = get("cache_clears");
                 c.relax.minimisations = get("minimisations"), c.relax.evaluations = get("evaluations");
                 c.relax.fallbacks = get("fallbacks"), c.relax.unconverged = get("unconverged");
             },
             "attempted, accepted, screened (rejected by the surrogate), cluster_attempted, cluster_accepted (cluster "
             "translations, counted in attempted/accepted too), cache_hits, cache_misses, cache_clears, minimisations, evaluations (energy+gradient "
             "evaluations, 1 per linear solve), fallbacks (linear solve refused, done by L-BFGS), unconverged.")
-        .def_property_readonly("cache_size", &HexagonMC::cache_size)
-        .def("clear_cache", &HexagonMC::clear_cache);
-
+        .def_property_readonly("cache_size", &MC::cache_size)
+        .def("clear_cache", &MC::clear_cache);
+    // The factory: pybind11 picks the class of the model passed.
     m.def(
-        "shape_key",
-        [](const IntArray& sites) {
-            std::vector<LatticeVector> canonical;
-            const ShapeKey key = finite_shape_key(site_list(sites), &canonical);
-            py::array_t<int> a(std::vector<py::ssize_t>{static_cast<py::ssize_t>(canonical.size()), 2});
-            auto w = a.mutable_unchecked<2>();
-            for (std::size_t k = 0; k < canonical.size(); ++k) w(k, 0) = canonical[k][0], w(k, 1) = canonical[k][1];
-            return py::make_tuple(py::tuple(py::cast(key)), a);
+        "MonteCarlo",
+        [cls = m.attr(class_name)](const Model& model, py::args args, py::kwargs kwargs) {
+            return cls(model, *args, **kwargs);
         },
-        py::arg("sites"),
-        "Canonical key of a finite cluster up to translations and D3 (tuple of ints) and its canonical sites (n, 2).");
+        "MonteCarlo(model, g, box, n, seed, ...): the Monte Carlo class of the model's type.");
 }
+
+}  // namespace pyfrustrate
