@@ -14,24 +14,8 @@ void export_hexagon(py::module_& m) {
         .def_readonly("k", &HexagonModel::k)
         .def_readonly("kc", &HexagonModel::kc)
         .def_readonly("k_area", &HexagonModel::k_area)
-        .def_readonly("eps", &HexagonModel::eps)
-        .def(
-            "evaluate",
-            [](const HexagonModel& model, const HexagonModel::Corners& corners) {
-                HexagonModel::Corners g = HexagonModel::Corners::Zero();
-                HexagonModel::Hessian h = HexagonModel::Hessian::Zero();
-                const auto terms = model.terms(corners, &g, &h);
-                py::dict d;
-                d["triangles"] = terms.triangles;
-                d["connecting"] = terms.connecting;
-                d["area"] = terms.area;
-                d["energy"] = terms.total();
-                d["gradient"] = g;
-                d["hessian"] = h;
-                return d;
-            },
-            py::arg("corners"),
-            "Energy terms, gradient (12,) and Hessian (12, 12) of one particle from its corners "
+        .def_readonly("eps", &HexagonModel::eps);
+    bind_evaluate_terms<HexagonModel>(cls, "Energy terms, gradient (12,) and Hessian (12, 12) of one particle from its corners "
             "(x0, y0, ..., x5, y5), slots at 30, 90, ..., 330 degrees, even slots red.");
     bind_particle_contract<HexagonModel>(cls);
     export_network_functions<HexagonModel>(m);

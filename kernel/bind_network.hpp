@@ -54,6 +54,29 @@ void bind_particle_contract(Class& cls) {
         .def_property_readonly("step_scale", &Model::step_scale);
 }
 
+// Model::terms (energy by kind of term, gradient, Hessian of absolute corners) as `evaluate`,
+// for models that sum springs and areas by kind.
+template <class Model, class Class>
+void bind_evaluate_terms(Class& cls, const char* doc) {
+    namespace py = pybind11;
+    cls.def(
+        "evaluate",
+        [](const Model& model, const typename Model::Corners& corners) {
+            typename Model::Corners g = Model::Corners::Zero();
+            typename Model::Hessian h = Model::Hessian::Zero();
+            const auto terms = model.terms(corners, &g, &h);
+            py::dict d;
+            d["triangles"] = terms.triangles;
+            d["connecting"] = terms.connecting;
+            d["area"] = terms.area;
+            d["energy"] = terms.total();
+            d["gradient"] = g;
+            d["hessian"] = h;
+            return d;
+        },
+        py::arg("corners"), doc);
+}
+
 template <class Model>
 void export_network_functions(pybind11::module_& m) {
     namespace py = pybind11;

@@ -7,6 +7,7 @@ void export_chain(py::module_& m);
 void export_topology(py::module_& m);
 void export_hexagon(py::module_& m);
 void export_random_hexagon(py::module_& m);
+void export_triangle(py::module_& m);
 
 PYBIND11_MODULE(_kernel, m) {
     m.doc() = "pyfrustrate's C++ kernel (Eigen, NLopt, CHOLMOD): energies, gradients, Hessians, L-BFGS, Newton and linear solves";
@@ -14,4 +15,5 @@ PYBIND11_MODULE(_kernel, m) {
     export_topology(m);
     export_hexagon(m);
     export_random_hexagon(m);
+    export_triangle(m);
 }

@@ -31,13 +31,19 @@ namespace pyfrustrate {
 
 // Degrees of freedom held fixed to remove the three rigid-body zero modes (two translations
 // and a rotation, which also turns the period vectors): corner 0, and the coordinate of the
-// corner farthest from it that a rotation about corner 0 moves most.
+// corner farthest from it that a rotation about corner 0 moves most. Where every corner of a
+// periodic cell sits at one point (the triangle bulk: one vertex, its yellow and red node), the
+// rotation shows only in the period vectors: the first one's transverse component is pinned.
 inline std::vector<int> rigid_body_pins(const Topology& t) {
     int far = 0;
     double best = -1;
     for (int c = 1; c < t.n_corners(); ++c) {
         const double d = (t.reference[c] - t.reference[0]).squaredNorm();
         if (d > best) best = d, far = c;
+    }
+    if (best < 1e-12 && t.periodicity != Periodicity::None) {
+        const Eigen::Vector2d p = t.reference_period_parameters().head<2>();
+        return {0, 1, 2 * t.n_corners() + (std::abs(p.x()) >= std::abs(p.y()) ? 1 : 0)};
     }
     const Eigen::Vector2d d = t.reference[far] - t.reference[0];
     return {0, 1, 2 * far + (std::abs(d.x()) >= std::abs(d.y()) ? 1 : 0)};

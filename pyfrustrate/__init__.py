@@ -9,11 +9,11 @@ toy model), ``anneal`` (Monte Carlo of topologies), ``random_particles`` and ``R
 (random-elasticity particles).
 """
 from . import chain, continuum, random_particles, topology
-from .particles import Hexagon
+from .particles import Hexagon, Particle, Triangle
 from .relaxation import ConvergenceWarning, Relaxation, StiffnessCache, relax
 from .montecarlo import AnnealResult, anneal
 from .random_particles import RandomHexagon
 
 __version__ = "0.1.0"
-__all__ = ["chain", "continuum", "topology", "random_particles", "Hexagon", "RandomHexagon", "relax", "Relaxation", "StiffnessCache",
+__all__ = ["chain", "continuum", "topology", "random_particles", "Hexagon", "Triangle", "Particle", "RandomHexagon", "relax", "Relaxation", "StiffnessCache",
            "ConvergenceWarning", "anneal", "AnnealResult"]

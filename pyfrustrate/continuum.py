@@ -28,7 +28,21 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import ive
 
-LINE_TENSION_PER_BINDING_ENERGY = 1.0
+LINE_TENSION_PER_BINDING_ENERGY = 1.0  # hexagon tiling (line_tension)
+# What the triangle tiling changes (supplement, "Triangular particles"; derived in the README,
+# measured by tests/test_triangle.py): every lattice edge of each sheet carries two springs k
+# (one per particle on either side) where the hexagon's carries one, and each particle its own
+# coupling springs over half the area, so all three sheet moduli mu, lam, kappa_c double; nu
+# and ell are unchanged. A flat edge along a1 breaks one bond per unit length and makes two
+# edges: gamma = g / 2.
+SHEET_MODULI_FACTOR = {"hexagon": 1.0, "triangle": 2.0}
+LINE_TENSION_PER_BINDING = {"hexagon": LINE_TENSION_PER_BINDING_ENERGY, "triangle": 0.5}
+
+
+def _tiling_constants(tiling):
+    if tiling not in SHEET_MODULI_FACTOR:
+        raise ValueError(f"tiling must be one of {tuple(SHEET_MODULI_FACTOR)}, got {tiling!r}")
+    return SHEET_MODULI_FACTOR[tiling], LINE_TENSION_PER_BINDING[tiling]
 _SQRT3 = math.sqrt(3.0)
 
 
@@ -84,7 +98,7 @@ class ParticleParameters:
     g: np.ndarray
 
 
-def line_tension(g):
+def line_tension(g, tiling="hexagon"):
     """Line tension ``gamma`` of a straight aggregate edge for a binding energy ``g`` per bond.
 
     ``gamma = LINE_TENSION_PER_BINDING_ENERGY * g``, the constant being 1: cutting the particle
@@ -93,16 +107,17 @@ def line_tension(g):
     breaks ``4/sqrt(3)`` bonds per unit length, ``2 g/sqrt(3)`` per edge; the supplement prints
     ``gamma = 4 g/sqrt(3)``. The convention is to be confirmed by measuring the edge energy of
     the discrete model (issue #4); it lives only here and in ``binding_energy``.
+    ``tiling="triangle"``: ``gamma = g/2`` (``LINE_TENSION_PER_BINDING``).
     """
-    return _out(LINE_TENSION_PER_BINDING_ENERGY * _checked("g", g, lo=0.0))
+    return _out(_tiling_constants(tiling)[1] * _checked("g", g, lo=0.0))
 
 
-def binding_energy(gamma):
+def binding_energy(gamma, tiling="hexagon"):
     """Inverse of ``line_tension``: ``g = gamma/LINE_TENSION_PER_BINDING_ENERGY``."""
-    return _out(_checked("gamma", gamma, lo=0.0) / LINE_TENSION_PER_BINDING_ENERGY)
+    return _out(_checked("gamma", gamma, lo=0.0) / _tiling_constants(tiling)[1])
 
 
-def mapping(k, kc, k_area, g, eps):
+def mapping(k, kc, k_area, g, eps, tiling="hexagon"):
     """Continuum parameters of the simple particle (supplement S1, Lame typo fixed).
 
     ``mu = sqrt(3) k/4``, ``nu = (sqrt(3) k + 2 k_area)/(3 sqrt(3) k + 2 k_area)``,
@@ -116,7 +131,12 @@ def mapping(k, kc, k_area, g, eps):
     Requires ``k > 0``, ``kc >= 0``, ``k_area > -sqrt(3) k`` (else ``nu <= -1``: unstable
     sheet), ``g >= 0``, ``0 < eps < 1``. ``k_area = inf`` is the incompressible limit ``nu = 1``
     (``lam = ell = e_bulk = inf``, ``Gamma = 0``); ``kc = 0`` gives ``ell = inf``, ``Gamma = 0``.
+
+    ``tiling="triangle"``: the triangular particle, whose moduli ``mu, lam, kappa_c`` and
+    ``e_bulk`` are twice these (``SHEET_MODULI_FACTOR``; same ``nu``, ``ell`` and bulk energy per
+    particle, area ``sqrt(3)/4`` per particle) and ``gamma = g/2``.
     """
+    factor, _ = _tiling_constants(tiling)
     k = _checked("k", k, lo=0.0, lo_open=True)
     kc = _checked("kc", kc, lo=0.0)
     k_area = _checked("k_area", k_area, finite=False)
@@ -125,37 +145,40 @@ def mapping(k, kc, k_area, g, eps):
     if (k_area <= -_SQRT3 * k).any():
         raise ValueError("k_area must exceed -sqrt(3) k (the sheet is unstable at nu <= -1)")
     k, kc, k_area, g, eps = np.broadcast_arrays(k, kc, k_area, g, eps)
-    p_wave = (3.0 * _SQRT3 * k + 2.0 * k_area) / 4.0  # lam + 2 mu: stays finite until nu = 1
-    mu = _SQRT3 * k / 4.0
+    p_wave = factor * (3.0 * _SQRT3 * k + 2.0 * k_area) / 4.0  # lam + 2 mu: stays finite until nu = 1
+    mu = factor * _SQRT3 * k / 4.0
     nu = 1.0 - 2.0 * mu / p_wave
-    kappa_c = 2.0 * _SQRT3 * kc
+    kappa_c = factor * 2.0 * _SQRT3 * kc
     with np.errstate(divide="ignore"):
         ell = np.sqrt(p_wave / (2.0 * kappa_c))
-    e_bulk = 2.0 * eps**2 * (_SQRT3 * k + k_area)
-    gamma = np.asarray(line_tension(g))
+    e_bulk = factor * 2.0 * eps**2 * (_SQRT3 * k + k_area)
+    gamma = np.asarray(line_tension(g, tiling))
     return ContinuumParameters(mu=mu, nu=nu, lam=p_wave - 2.0 * mu, kappa_c=kappa_c, gamma=gamma,
                                ell=ell, e_bulk=e_bulk,
                                Gamma=2.0 * gamma / ((1.0 + nu) * ell * e_bulk))
 
 
-def particle_parameters(ell, nu, Gamma, k=1.0, eps=0.01):
+def particle_parameters(ell, nu, Gamma, k=1.0, eps=0.01, tiling="hexagon"):
     """Particle parameters with continuum ``(ell, nu, Gamma)`` at given ``k, eps``.
 
     Inverse of ``mapping``: ``kc = k/(8 (1 - nu) ell^2)``,
     ``k_area = sqrt(3) k (3 nu - 1)/(2 (1 - nu))``, ``g = binding_energy(Gamma (1 + nu) ell
     e_bulk/2)`` with ``e_bulk = sqrt(3) k eps^2 (1 + nu)/(1 - nu)``. ``ell > 0`` finite and
     ``-1 < nu < 1`` (``nu < 1/3`` needs ``k_area < 0``; ``nu = 1`` has no finite particle).
+    ``tiling="triangle"``: the same ``kc`` and ``k_area``; ``g`` from that tiling's ``e_bulk`` and
+    line tension (``mapping``).
     """
+    factor, _ = _tiling_constants(tiling)
     ell = _checked("ell", ell, lo=0.0, lo_open=True)
     nu = _checked("nu", nu, lo=-1.0, hi=1.0, lo_open=True, hi_open=True)
     Gamma = _checked("Gamma", Gamma, lo=0.0)
     k = _checked("k", k, lo=0.0, lo_open=True)
     eps = _checked("eps", eps, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
-    e_bulk = _SQRT3 * k * eps**2 * (1.0 + nu) / (1.0 - nu)
+    e_bulk = factor * _SQRT3 * k * eps**2 * (1.0 + nu) / (1.0 - nu)
     return ParticleParameters(
         kc=np.asarray(k / (8.0 * (1.0 - nu) * ell**2)),
         k_area=np.asarray(_SQRT3 * k * (3.0 * nu - 1.0) / (2.0 * (1.0 - nu))),
-        g=np.asarray(binding_energy(Gamma * (1.0 + nu) * ell * e_bulk / 2.0)))
+        g=np.asarray(binding_energy(Gamma * (1.0 + nu) * ell * e_bulk / 2.0, tiling)))
 
 
 def chain_ell(kc_over_k):

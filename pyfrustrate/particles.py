@@ -1,19 +1,109 @@
 """Particle models: the parameters of one particle, handed to the kernel's stateless evaluators.
 
-``Hexagon`` is the particle of the paper (main text Fig. 2a). Its continuum counterpart is
-given by the mapping of supplement S1 (``continuum.mapping``).
+``Hexagon`` is the particle of the paper (main text Fig. 2a), ``Triangle`` the triangular one of
+the supplement (Fig. S6, our reconstruction of its lost design: README). Their continuum
+counterparts are given by the mapping of supplement S1 (``continuum.mapping``, per tiling).
+
+``Particle`` is the contract every particle model meets (the kernel's side is written in
+``kernel/network.hpp``); ``tests/test_particle_contract.py`` checks it for every model, and a new
+model inherits those tests by being listed there.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
 from . import _kernel, continuum
 
 
+@runtime_checkable
+class Particle(Protocol):
+    """What the package asks of a particle model.
+
+    ``tiling``: the tiling its topologies use (``topology.TILINGS``). ``eps``: the mismatch.
+    ``force_scale``: a typical corner force (the unit of relaxation tolerances).
+    ``bulk_energy_per_particle``: the leading-order deformation energy of a bulk particle.
+    ``_kernel_model``: the kernel's evaluator (its class carries ``corner_count``,
+    ``point_group``, ``rest_corners()``, ``energy_of_displacement``, ``without_mismatch``).
+    Instances are immutable and pickle by their parameters.
+    """
+
+    tiling: str
+    eps: float
+
+    @property
+    def force_scale(self) -> float: ...
+
+    @property
+    def bulk_energy_per_particle(self) -> float: ...
+
+
 @dataclass(frozen=True)
-class Hexagon:
+class _SpringParticle:
+    """Shared by the particles built of two spring triangles: parameters, kernel evaluator,
+    continuum mapping (per tiling) and scales."""
+
+    k: float = 1.0
+    kc: float = 0.01
+    k_area: float = 0.0
+    eps: float = 0.01
+    _kernel_model: object = field(init=False, repr=False, compare=False)
+    tiling: ClassVar[str] = "hexagon"
+    _kernel_class: ClassVar[object] = None
+
+    def __post_init__(self):
+        if not (0 < self.eps < 1):
+            raise ValueError(f"eps must lie in (0, 1), got {self.eps!r}")
+        object.__setattr__(self, "_kernel_model",
+                           self._kernel_class(float(self.k), float(self.kc), float(self.k_area), float(self.eps)))
+
+    def __reduce__(self):
+        # Pickled by its parameters (the kernel evaluator is rebuilt), for process pools.
+        return (type(self), (self.k, self.kc, self.k_area, self.eps))
+
+    @classmethod
+    def from_continuum(cls, ell: float, nu: float, eps: float = 0.01, k: float = 1.0):
+        """The particle whose continuum limit has boundary-layer length ``ell`` and Poisson ratio
+        ``nu`` (inverse of supplement S1, the same for both tilings): ``kc = k / (8 (1 - nu) ell^2)``,
+        ``k_area = sqrt(3) k (3 nu - 1) / (2 (1 - nu))``. ``nu = 1`` is singular (``k_area``
+        infinite): use ``nu < 1``."""
+        if not np.isfinite(ell) or ell <= 0:
+            raise ValueError(f"ell must be positive and finite, got {ell!r}")
+        if not (0 <= nu < 1):
+            raise ValueError(f"nu must lie in [0, 1) for a discrete particle, got {nu!r}")
+        p = continuum.particle_parameters(ell, nu, 0.0, k=k, eps=eps, tiling=cls.tiling)
+        return cls(k=k, kc=float(p.kc), k_area=float(p.k_area), eps=eps)
+
+    @property
+    def continuum(self):
+        """Continuum parameters (``mu, nu, lam, kappa_c, ell, e_bulk``; supplement S1) at g = 0."""
+        return continuum.mapping(self.k, self.kc, self.k_area, 0.0, self.eps, tiling=self.tiling)
+
+    @property
+    def force_scale(self) -> float:
+        """Typical force on a corner, ``eps * max(k, |k_area|, kc)``: the unit of the relaxation
+        tolerance (stiff areal terms at nu -> 1 raise both the forces and the precision floor)."""
+        return self.eps * max(self.k, abs(self.k_area), self.kc)
+
+    @property
+    def bulk_energy_per_particle(self) -> float:
+        """Leading-order bulk deformation energy per particle, ``(3 k + sqrt(3) k_area) eps^2``
+        (= e_bulk times the area per particle, main text Eq. 8; the same for both tilings)."""
+        return (3 * self.k + np.sqrt(3) * self.k_area) * self.eps ** 2
+
+    def evaluate(self, corners) -> dict:
+        """Energy terms (``triangles, connecting, area, energy``), gradient (12,) and Hessian
+        (12, 12) of one particle from its corners, shape (6, 2) or (12,), in the kernel's slot
+        order (``Hexagon``: counter-clockwise from 30 degrees, even slots red; ``Triangle``:
+        yellow nodes at the vertices v0, v1, v2, then red ones)."""
+        c = np.asarray(corners, dtype=float).reshape(12)
+        return self._kernel_model.evaluate(c)
+
+
+@dataclass(frozen=True)
+class Hexagon(_SpringParticle):
     """Hexagonal ill-fitting particle.
 
     Parameters
@@ -32,55 +122,22 @@ class Hexagon:
     Invalid values raise ``ValueError`` naming the parameter.
     """
 
-    k: float = 1.0
-    kc: float = 0.01
-    k_area: float = 0.0
-    eps: float = 0.01
-    _kernel_model: object = field(init=False, repr=False, compare=False)
+    tiling: ClassVar[str] = "hexagon"
+    _kernel_class: ClassVar[object] = _kernel.HexagonModel
 
-    def __post_init__(self):
-        if not (0 < self.eps < 1):
-            raise ValueError(f"eps must lie in (0, 1), got {self.eps!r}")
-        object.__setattr__(self, "_kernel_model",
-                           _kernel.HexagonModel(float(self.k), float(self.kc), float(self.k_area), float(self.eps)))
 
-    def __reduce__(self):
-        # Pickled by its parameters (the kernel evaluator is rebuilt), for process pools.
-        return (type(self), (self.k, self.kc, self.k_area, self.eps))
+@dataclass(frozen=True)
+class Triangle(_SpringParticle):
+    """Triangular ill-fitting particle (supplement Fig. S6; the design is our reconstruction).
 
-    @classmethod
-    def from_continuum(cls, ell: float, nu: float, eps: float = 0.01, k: float = 1.0) -> "Hexagon":
-        """The particle whose continuum limit has boundary-layer length ``ell`` and Poisson ratio
-        ``nu`` (inverse of supplement S1): ``kc = k / (8 (1 - nu) ell^2)``,
-        ``k_area = sqrt(3) k (3 nu - 1) / (2 (1 - nu))``. ``nu = 1`` is singular (``k_area``
-        infinite): use ``nu < 1``."""
-        if not np.isfinite(ell) or ell <= 0:
-            raise ValueError(f"ell must be positive and finite, got {ell!r}")
-        if not (0 <= nu < 1):
-            raise ValueError(f"nu must lie in [0, 1) for a discrete particle, got {nu!r}")
-        p = continuum.particle_parameters(ell, nu, 0.0, k=k, eps=eps)
-        return cls(k=k, kc=float(p.kc), k_area=float(p.k_area), eps=eps)
+    Every vertex carries a yellow and a red node; the yellow triangle has springs ``k`` of rest
+    length ``1 + eps``, the red one ``1 - eps``; each edge ``(a, b)`` carries two coupling springs
+    ``kc`` (``Y_a-R_b``, ``Y_b-R_a``, at rest for concentric triangles: length
+    ``sqrt(1 + eps^2/3)``); areal stiffness ``k_area`` on both triangles. Bound neighbours share
+    the nodes of their common edge. Same parameters, limits and continuum theory as ``Hexagon``
+    (twice its sheet moduli, the same ``nu`` and ``ell``); line tension ``gamma = g/2``.
+    Topologies for it take ``tiling="triangle"``.
+    """
 
-    @property
-    def continuum(self):
-        """Continuum parameters (``mu, nu, lam, kappa_c, ell, e_bulk``; supplement S1) at g = 0."""
-        return continuum.mapping(self.k, self.kc, self.k_area, 0.0, self.eps)
-
-    @property
-    def force_scale(self) -> float:
-        """Typical force on a corner, ``eps * max(k, |k_area|, kc)``: the unit of the relaxation
-        tolerance (stiff areal terms at nu -> 1 raise both the forces and the precision floor)."""
-        return self.eps * max(self.k, abs(self.k_area), self.kc)
-
-    @property
-    def bulk_energy_per_particle(self) -> float:
-        """Leading-order bulk deformation energy per particle, ``(3 k + sqrt(3) k_area) eps^2``
-        (= e_bulk * sqrt(3)/2, main text Eq. 8)."""
-        return (3 * self.k + np.sqrt(3) * self.k_area) * self.eps ** 2
-
-    def evaluate(self, corners) -> dict:
-        """Energy terms (``triangles, connecting, area, energy``), gradient (12,) and Hessian
-        (12, 12) of one particle from its corners, shape (6, 2) or (12,), slots counter-clockwise
-        from 30 degrees (even slots red, odd yellow)."""
-        c = np.asarray(corners, dtype=float).reshape(12)
-        return self._kernel_model.evaluate(c)
+    tiling: ClassVar[str] = "triangle"
+    _kernel_class: ClassVar[object] = _kernel.TriangleModel

@@ -288,9 +288,12 @@ class RandomHexagon:
         Mismatch, in (0, 1): rest distances ``d0`` are triangle sides ``1 +- eps`` and the
         hexagon side of the ill-fitting hexagon.
 
-    ``RandomHexagon.draw(seed)`` draws ``M`` as in the supplement. Works with ``relax`` and the
-    topologies of ``pyfrustrate.topology`` like ``Hexagon``.
+    ``RandomHexagon.draw(seed)`` draws ``M`` as in the supplement. Works with ``relax``, ``anneal``
+    and the topologies of ``pyfrustrate.topology`` like ``Hexagon`` (its point group is C3: ``M``
+    is not mirror-symmetric in general).
     """
+
+    tiling = "hexagon"
 
     def __init__(self, M, eps: float = 0.01):
         M = np.array(M, dtype=float)
