@@ -1,9 +1,10 @@
 """Monte Carlo annealing of aggregate topologies (main text, "Monte-Carlo validation of the phase
 diagram"; the snapshots of Fig. 3b).
 
-``n`` particles occupy distinct sites of a periodic ``box x box`` patch of the triangular lattice
-(site ``(i, j)`` at ``i a1 + j a2``, ``i, j`` modulo ``box``). A move takes a random particle to a
-random empty site; the energy of a configuration is a sum over its connected clusters,
+``n`` particles occupy distinct sites of a periodic ``box x box`` patch of cells of the particle's
+tiling (cell ``(i, j)`` at ``i a1 + j a2``, ``i, j`` modulo ``box``): ``box**2`` sites for hexagons,
+``2 box**2`` (an up and a down triangle per cell) for triangles. A move takes a random particle
+to a random empty site; the energy of a configuration is a sum over its connected clusters,
 
     E = sum over clusters of [ -g * bonds + relaxed deformation energy ],
 
@@ -11,15 +12,17 @@ the deformation energy being minimised at fixed topology before the Metropolis t
 temperature acts on the topology only. Simulated annealing lowers ``T`` to zero.
 
 By default each move is first screened with the bond count alone (delayed acceptance,
-Christen & Fox 2005: surrogate energy ``-(g - e_b/3) * bonds``), and clusters are relaxed only
+Christen & Fox 2005: surrogate energy ``-(g - e_b/b) * bonds``, ``b`` the bonds per bulk
+particle: 3 for hexagons, 3/2 for triangles), and clusters are relaxed only
 for the moves that pass; the second stage accepts with the ratio of the true to the surrogate
 Boltzmann factors. The chain samples exactly ``exp(-E/T)`` at every temperature, like plain
 Metropolis (``delayed_acceptance=False``), with most relaxations skipped at low ``T``.
 
 The kernel (``kernel/montecarlo.hpp``) recomputes only the clusters a move leaves and joins and
-caches relaxed energies by shape up to translations and the particle's point group D3 (the
-colour-preserving rotations by 120 degrees and mirrors; not the 60-degree rotations, which swap
-the yellow and red corners). Each shape's energy is computed from its canonical representative,
+caches relaxed energies by shape up to translations and the symmetries the particle shares with
+its tiling (hexagons: D3, the colour-preserving rotations by 120 degrees and mirrors, not the
+60-degree rotations, which swap the yellow and red corners; random hexagons: C3, their ``M``
+having no mirror symmetry; triangles: all twelve operations of the lattice). Each shape's energy is computed from its canonical representative,
 so results do not depend on the cache. Clusters that wrap around the box are relaxed as periodic
 aggregates (a straight fibre if they wrap in one direction, a bulk cell if in two) with free
 period vectors: the box stands for an infinite system.
@@ -57,7 +60,7 @@ import numpy as np
 from . import _kernel
 from .relaxation import METHODS
 from .io import atomic_path
-from .topology import NEIGHBOURS, site_positions
+from .topology import neighbour_sites, site_columns, site_positions, tiling_facts
 
 __all__ = ["anneal", "AnnealResult", "draw_snapshot", "clusters", "classify_aggregate", "SCHEDULES"]
 
@@ -240,6 +243,18 @@ def _write_atomically(path, data):
         os.fsync(f.fileno())
 
 
+def _particle_signature(particle) -> dict:
+    """What identifies a particle in a checkpoint: its parameters (spring particles; the form
+    checkpoints have always had for hexagons), or its type and a digest of ``M`` (random ones)."""
+    if hasattr(particle, "M"):
+        return dict(type=type(particle).__name__, eps=float(particle.eps),
+                    M=hashlib.sha256(np.ascontiguousarray(particle.M, dtype=float).tobytes()).hexdigest())
+    params = {k: float(getattr(particle, k)) for k in ("k", "kc", "k_area", "eps")}
+    if particle.tiling != "hexagon":
+        params["tiling"] = particle.tiling
+    return params
+
+
 def _read_checkpoint(path, signature):
     with open(path, "rb") as f:
         data = pickle.load(f)
@@ -266,13 +281,14 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
 
     Parameters
     ----------
-    particle : Hexagon
+    particle : Hexagon, RandomHexagon or Triangle (any ``particles.Particle``)
     g : float
         Binding energy per bound pair of sides (>= 0), in the units of the particle's springs.
     box : int
-        Box side in lattice sites (>= 2). The paper: 60 (200 particles) and 30 (300 particles).
+        Box side in lattice cells (>= 2). The paper: 60 (200 particles) and 30 (300 particles).
     n : int
-        Number of particles, ``1 <= n < box**2``.
+        Number of particles, fewer than the box's sites (``box**2`` cells times the tiling's
+        sublattices).
     steps : int
         Attempted moves in all (with a continuous schedule). Default ``DEFAULT_SWEEPS * n``
         (10000 sweeps).
@@ -336,15 +352,14 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     Bad input raises ``ValueError`` naming the parameter.
     """
     model = getattr(particle, "_kernel_model", None)
-    if not isinstance(model, _kernel.HexagonModel):
-        # The cache keys shapes up to the lattice's D3 symmetry, which the simple hexagon shares;
-        # a random particle has only C3 (M has no mirror symmetry), so its mirror images differ.
-        raise ValueError(f"particle must be a Hexagon (Monte Carlo keys cluster shapes by the D3 symmetry of "
-                         f"that particle), got {particle!r}")
+    if model is None or not hasattr(particle, "tiling"):
+        raise ValueError(f"particle must be a particle model (Hexagon, RandomHexagon, Triangle), got {particle!r}")
+    tiling = tiling_facts(particle.tiling)
     box = _integer("box", box, 2, 30000)
     n = _integer("n", n, 1)
-    if n >= box * box:
-        raise ValueError(f"n must be smaller than box**2 = {box * box} (a move needs an empty site), got {n}")
+    n_sites = box * box * tiling["sublattices"]
+    if n >= n_sites:
+        raise ValueError(f"n must be smaller than the box's {n_sites} sites (a move needs an empty site), got {n}")
     g = _non_negative("g", g)
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
@@ -370,9 +385,9 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     total_steps = int(block_steps.sum())
     cum_steps = np.cumsum(block_steps)
 
-    particle_params = {k: float(getattr(particle, k)) for k in ("k", "kc", "k_area", "eps")}
+    particle_params = _particle_signature(particle)
     plan_digest = hashlib.sha256(temps.tobytes() + block_steps.tobytes()).hexdigest()
-    bond_deformation = float(particle.bulk_energy_per_particle) / 3.0
+    bond_deformation = float(particle.bulk_energy_per_particle) / tiling["bulk_bonds_per_particle"]
     signature = dict(particle=particle_params, g=g, box=box, n=n, seed=seed, method=method, tol=float(tol),
                      max_iter=max_iter, warm_start=bool(warm_start), delayed_acceptance=bool(delayed_acceptance),
                      cluster_moves=cluster_moves, plan=plan_digest)
@@ -464,15 +479,21 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
 # Clusters and snapshots
 # ---------------------------------------------------------------------------------------------
 
-def clusters(sites, box) -> list[tuple[np.ndarray, int]]:
-    """Connected clusters of occupied sites in the periodic ``box`` (six neighbours).
+def clusters(sites, box, tiling="hexagon") -> list[tuple[np.ndarray, int]]:
+    """Connected clusters of occupied sites in the periodic ``box`` (edge neighbours of the tiling).
 
-    Returns ``(coords, rank)`` pairs, largest cluster first: ``coords`` (k, 2) are unwrapped
-    lattice coordinates (a breadth-first search from the cluster's first site, so neighbours are
-    one lattice step apart), ``rank`` is 0 for a finite cluster, 1 if it wraps around the box in
+    Returns ``(coords, rank)`` pairs, largest cluster first: ``coords`` (k, 2) or (k, 3) are
+    unwrapped sites (a breadth-first search from the cluster's first site, so neighbours are one
+    lattice step apart), ``rank`` is 0 for a finite cluster, 1 if it wraps around the box in
     one direction, 2 in two.
     """
-    sites = np.asarray(sites, dtype=np.int64).reshape(-1, 2) % box
+    columns = site_columns(tiling)
+    sites = np.asarray(sites, dtype=np.int64).reshape(-1, columns).copy()
+    sites[:, :2] %= box
+
+    def wrapped(v):
+        return (v[0] % box, v[1] % box) + tuple(v[2:])
+
     where = {tuple(s): k for k, s in enumerate(sites.tolist())}
     seen = np.zeros(len(sites), bool)
     found = []
@@ -483,10 +504,8 @@ def clusters(sites, box) -> list[tuple[np.ndarray, int]]:
         pos = {k0: tuple(sites[k0])}
         queue, wraps = [k0], []
         for k in queue:
-            u = pos[k]
-            for d in NEIGHBOURS:
-                v = (u[0] + d[0], u[1] + d[1])
-                t = where.get((v[0] % box, v[1] % box))
+            for v in neighbour_sites(pos[k], tiling):
+                t = where.get(wrapped(v))
                 if t is None:
                     continue
                 if t not in pos:
@@ -503,22 +522,22 @@ def clusters(sites, box) -> list[tuple[np.ndarray, int]]:
 
 #: Gyration anisotropy sqrt(l1 / l2) above which a finite aggregate counts as elongated.
 ELONGATION_THRESHOLD = 1.6
-#: Bonds per particle below which a large aggregate counts as an open network (a bulk with
-#: holes: 1.5 in the honeycomb pattern, 3 in a bulk, about 2.5 in a compact disk of 100).
-OPEN_NETWORK_BONDS = 2.0
+#: Bonds per particle, as a fraction of the bulk's, below which a large aggregate counts as an
+#: open network (hexagons: 1.5 of 3 in the honeycomb pattern, about 2.5 in a compact disk of 100).
+OPEN_NETWORK_BONDS = 2.0 / 3.0
 
 
-def classify_aggregate(sites, box) -> tuple[str, int]:
+def classify_aggregate(sites, box, tiling="hexagon") -> tuple[str, int]:
     """Kind of the largest aggregate of a Monte Carlo state, for phase diagrams: ``'bulk'``
     (wraps the box both ways), ``'fiber'`` (wraps one way, or finite and elongated: gyration
     anisotropy above ``ELONGATION_THRESHOLD``), ``'bulk_with_holes'`` (fewer than
-    ``OPEN_NETWORK_BONDS`` bonds per particle), ``'disk'`` (compact), or ``'gas'`` (largest
+    ``OPEN_NETWORK_BONDS`` times the bulk's bonds per particle), ``'disk'`` (compact), or ``'gas'`` (largest
     cluster of fewer than 3 particles). Returns ``(kind, size of the largest cluster)``.
 
     A heuristic with the limits of a finite box: an aggregate narrower than the optimal fibre
     width but too short to show it (few particles) reads as a disk.
     """
-    coords, rank = clusters(sites, box)[0]
+    coords, rank = clusters(sites, box, tiling)[0]
     size = len(coords)
     if size < 3:
         return "gas", size
@@ -527,29 +546,36 @@ def classify_aggregate(sites, box) -> tuple[str, int]:
     if rank == 1:
         return "fiber", size
     members = {tuple(c) for c in coords.tolist()}
-    bonds = sum((c[0] + d[0], c[1] + d[1]) in members for c in coords.tolist() for d in NEIGHBOURS) / 2
-    if bonds / size < OPEN_NETWORK_BONDS:
+    bonds = sum(v in members for c in coords.tolist() for v in neighbour_sites(c, tiling)) / 2
+    if bonds / size < OPEN_NETWORK_BONDS * tiling_facts(tiling)["bulk_bonds_per_particle"]:
         return "bulk_with_holes", size
-    xy = site_positions(coords)
+    xy = site_positions(coords, tiling)
     eigen = np.linalg.eigvalsh(np.cov(xy.T))
     return ("fiber" if np.sqrt(eigen[1] / max(eigen[0], 1e-12)) > ELONGATION_THRESHOLD else "disk"), size
 
 
-def _hexagon_corners(centres, radius=1 / np.sqrt(3)):
-    angles = np.deg2rad(30 + 60 * np.arange(6))
-    return centres[:, None, :] + radius * np.stack([np.cos(angles), np.sin(angles)], axis=1)[None]
+def _reference_outlines(coords, tiling):
+    """Outline polygons (n, m, 2) of particles at rest without mismatch: their site centres plus
+    the kernel's corner offsets, for the outline slots (``plotting.OUTLINE_SLOTS``)."""
+    from .plotting import OUTLINE_SLOTS
+
+    facts = tiling_facts(tiling)
+    offsets = np.asarray(facts["slot_offsets"])[:, OUTLINE_SLOTS[tiling]]  # (sublattices, m, 2)
+    sub = coords[:, 2] if coords.shape[1] == 3 else np.zeros(len(coords), int)
+    return site_positions(coords, tiling)[:, None, :] + offsets[sub]
 
 
-def draw_snapshot(sites, box, ax=None, particle=None, *, magnify=1.0, cmap="tab10", outline=True):
-    """Draw particles as hexagons at their lattice positions, one colour per cluster (isolated
+def draw_snapshot(sites, box, ax=None, particle=None, *, magnify=1.0, cmap="tab10", outline=True, tiling=None):
+    """Draw particles as polygons at their lattice positions, one colour per cluster (isolated
     particles grey), each cluster unwrapped (so a cluster across the periodic boundary looks
     connected) and placed with its centre inside the box, whose outline is drawn.
 
     With ``particle`` given, finite clusters are drawn in their relaxed shapes (linear solve),
     displacements from the regular reference magnified by ``magnify``; wrapped clusters stay
-    regular. Returns the matplotlib axes.
+    regular. ``tiling`` defaults to the particle's, else the hexagon's. Returns the matplotlib axes.
     """
     import matplotlib.pyplot as plt
+    from .plotting import OUTLINE_SLOTS
     from matplotlib.collections import PolyCollection
 
     if ax is None:
@@ -557,17 +583,19 @@ def draw_snapshot(sites, box, ax=None, particle=None, *, magnify=1.0, cmap="tab1
     colours = plt.get_cmap(cmap)
     polys, faces = [], []
     multi = 0
-    for coords, rank in clusters(sites, box):
-        centre = np.floor(coords.mean(axis=0) / box).astype(int) * box
-        coords = coords - centre
-        corners = _hexagon_corners(site_positions(coords))
+    if tiling is None:
+        tiling = particle.tiling if particle is not None else "hexagon"
+    for coords, rank in clusters(sites, box, tiling):
+        coords = coords.copy()
+        coords[:, :2] -= np.floor(coords[:, :2].mean(axis=0) / box).astype(int) * box
+        corners = _reference_outlines(coords, tiling)
         if particle is not None and rank == 0 and len(coords) > 1:
             from . import relaxation as _relax
             from .topology import cluster as _cluster
 
-            top = _cluster(coords)
+            top = _cluster(coords, tiling=tiling)
             r = _relax.relax(particle, top, method="linear")
-            relaxed = _relax.particle_corners(particle, top, r.state)
+            relaxed = _relax.particle_corners(particle, top, r.state)[:, OUTLINE_SLOTS[tiling]]
             corners = corners + magnify * (relaxed - corners)
         if len(coords) == 1:
             colour = (0.75, 0.75, 0.75, 1.0)
@@ -578,7 +606,9 @@ def draw_snapshot(sites, box, ax=None, particle=None, *, magnify=1.0, cmap="tab1
         faces.extend([colour] * len(coords))
     ax.add_collection(PolyCollection(polys, facecolors=faces, edgecolors="k", linewidths=0.2))
     if outline:
-        rhombus = site_positions([(0, 0), (box, 0), (box, box), (0, box), (0, 0)]) - site_positions([(0.5, 0.5)])
+        # The box's cells: a rhombus, drawn around the sites' centres (a cell's sites lie within it).
+        corner = site_positions([(0.5, 0.5)]) if tiling == "hexagon" else np.zeros((1, 2))
+        rhombus = site_positions([(0, 0), (box, 0), (box, box), (0, box), (0, 0)]) - corner
         # Dotted and beneath the particles: a cropped view shows only part of the box, whose
         # edges must not read as cracks through an aggregate.
         ax.plot(rhombus[:, 0], rhombus[:, 1], color="0.55", lw=0.6, ls=":", zorder=0.5)

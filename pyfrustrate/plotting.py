@@ -26,6 +26,11 @@ STYLE = {
 }
 
 
+# Corner slots that outline a particle, in order (kernel slot order): the hexagon's six corners;
+# the triangle's yellow nodes (its red ones coincide with them without mismatch).
+OUTLINE_SLOTS = {"hexagon": [0, 1, 2, 3, 4, 5], "triangle": [0, 1, 2]}
+
+
 def figure(width_cm: float = 17.8, height_cm: float = 8.0, **kwargs):
     """A figure in the journal's column widths (8.6 cm single, 17.8 cm double)."""
     plt.rcParams.update(STYLE)

@@ -414,10 +414,52 @@ def test_bad_input_names_the_parameter(particle, g, kw, name):
         small_anneal(particle, **kw)
 
 
-def test_random_particles_are_refused_with_a_reason(g):
-    # The shape cache identifies mirror images (D3), which a random particle does not allow.
-    with pytest.raises(ValueError, match="particle must be a Hexagon"):
-        pyfrustrate.anneal(pyfrustrate.RandomHexagon.draw(1), g, box=12, n=10, steps=10, progress=False)
+CHIRAL_SHAPES = {"hexagon": [(0, 0), (1, 0), (2, 0), (2, 1), (0, 1)],
+                 "triangle": [(0, 0, 0), (0, 0, 1), (1, 0, 0), (1, 0, 1), (1, 1, 0), (0, 1, 1), (-1, 1, 1)]}
+MODELS = {"hexagon": lambda: Hexagon.from_continuum(3, 0.6, eps=0.01),
+          "random": lambda: pyfrustrate.RandomHexagon.draw(11, eps=0.01),
+          "triangle": lambda: pyfrustrate.Triangle.from_continuum(3, 0.6, eps=0.01)}
+
+
+@pytest.mark.parametrize("name", sorted(MODELS))
+def test_shape_symmetries_are_exactly_the_operations_that_keep_relaxed_energies(name):
+    """The cache identifies shapes related by the operations the kernel derives from the tiling's
+    frames and the particle's point group. Independently: relax a chiral cluster and each of its
+    twelve images under the lattice's point group; the energies must agree for those operations
+    and, for a chiral shape, differ for every other one."""
+    particle = MODELS[name]()
+    shape = np.array(CHIRAL_SHAPES[particle.tiling])
+    kept = set(_kernel.shape_symmetries(particle.tiling, particle._kernel_model.point_group))
+    base = relax(particle, T.cluster(shape, tiling=particle.tiling), tol=1e-10).energy
+    for op in range(12):
+        image = np.asarray(_kernel.transform_sites(particle.tiling, op, shape.astype(np.int32)))
+        e = relax(particle, T.cluster(image, tiling=particle.tiling), tol=1e-10).energy
+        if op in kept:
+            assert e == pytest.approx(base, rel=1e-8), op
+        else:
+            assert abs(e - base) > 1e-6 * base, op
+    expected = {"hexagon": 6, "random": 3, "triangle": 12}[name]
+    assert len(kept) == expected
+
+
+@pytest.mark.parametrize("name", sorted(MODELS))
+def test_anneal_runs_for_every_particle_model(name):
+    """Every model anneals through the same code: the running energy equals the from-scratch
+    recomputation without the cache, and the bonds equal the count over the kernel's neighbour
+    table of the final sites."""
+    particle = MODELS[name]()
+    g = 2 * particle.bulk_energy_per_particle
+    r = pyfrustrate.anneal(particle, g, box=8, n=30, steps=30 * 50, seed=3, progress=False, method="linear")
+    occupied = {tuple(s) for s in r.sites.tolist()}
+
+    def wrap(v):
+        return (v[0] % 8, v[1] % 8) + tuple(v[2:])
+
+    bonds = sum(wrap(v) in occupied for s in occupied for v in T.neighbour_sites(s, particle.tiling)) // 2
+    assert r.bonds == bonds
+    mc = _kernel.MonteCarlo(particle._kernel_model, g, 8, 30, 3, "linear", 1e-8)
+    mc.place(r.sites)
+    assert mc.box_energy(False) == pytest.approx(r.energy, rel=1e-9, abs=1e-12)
 
 
 def test_kernel_bad_input(particle, g):
