@@ -78,6 +78,9 @@ void export_topology(py::module_& m) {
         py::arg("tiling"), py::arg("op"), py::arg("sites"),
         "Sites sent by the lattice's point operation op (0-5: rotation by 60 op degrees; 6-11: the mirror x -> -x, "
         "then the rotation by 60 (op - 6) degrees) about the origin.");
+    m.def(
+        "point_group_operations", [](const std::string& name) { return point_group_operations(point_group_named(name)); },
+        py::arg("point_group"), "The lattice point operations of a particle's point group ('C3' or 'D3'), in its own frame.");
     m.def("point_operation_matrix", &point_operation_matrix, py::arg("op"), "The point operation op on Cartesian vectors.");
     m.def(
         "shape_symmetries",
