@@ -41,19 +41,23 @@ class Candidate:
 
 
 def catalogue(max_radius: int = 25, max_width: int = 35, cuts=(0, 1, 2), straight_fibers: bool = False,
-              hole_patterns=("honeycomb", "kagome", "sqrt7")) -> list[Candidate]:
-    """The candidates of Fig. 4a: the single particle (a disk of one), hexagonal disks
-    ``R = 1..max_radius``, fibres of each cut from the narrowest connected one to ``max_width``
-    (free to curve), optionally the straight cut-0 fibres, the bulk and bulks with holes."""
-    out = [Candidate("single", 0, topology.disk(0))]
-    out += [Candidate("disk", R, topology.disk(R)) for R in range(1, max_radius + 1)]
+              hole_patterns=None, tiling: str = "hexagon") -> list[Candidate]:
+    """The candidates of Fig. 4a (hexagons) or S6e (triangles): the single particle (a disk of
+    one), compact disks ``R = 1..max_radius``, fibres of each cut from the narrowest connected
+    one to ``max_width`` (free to curve), optionally the straight cut-0 fibres, the bulk and
+    bulks with holes (default: every pattern of the tiling, ``topology.hole_patterns``)."""
+    if hole_patterns is None:
+        hole_patterns = tuple(topology.hole_patterns(tiling))
+    out = [Candidate("single", 0, topology.disk(0, tiling=tiling))]
+    out += [Candidate("disk", R, topology.disk(R, tiling=tiling)) for R in range(1, max_radius + 1)]
     for cut in cuts:
-        out += [Candidate(f"fiber_cut{cut}", w, topology.fiber(w, cut))
-                for w in range(topology.min_fiber_width(cut), max_width + 1)]
+        out += [Candidate(f"fiber_cut{cut}", w, topology.fiber(w, cut, tiling=tiling))
+                for w in range(topology.min_fiber_width(cut, tiling), max_width + 1)]
     if straight_fibers:
-        out += [Candidate("fiber_cut0_straight", w, topology.fiber(w, 0, curved=False)) for w in range(1, max_width + 1)]
-    out.append(Candidate("bulk", 0, topology.bulk()))
-    out += [Candidate(f"holes_{p}", 0, topology.bulk_with_holes(p)) for p in hole_patterns]
+        out += [Candidate("fiber_cut0_straight", w, topology.fiber(w, 0, curved=False, tiling=tiling))
+                for w in range(1, max_width + 1)]
+    out.append(Candidate("bulk", 0, topology.bulk(tiling)))
+    out += [Candidate(f"holes_{p}", 0, topology.bulk_with_holes(p, tiling=tiling)) for p in hole_patterns]
     return out
 
 
@@ -126,18 +130,23 @@ def relax_catalogue(particle, candidates, method: str = "auto", tol: float = 1e-
 
 def binding_energy_of(particle, ell: float, nu: float, Gamma) -> np.ndarray:
     """Binding energy ``g`` per bound pair of sides for line tension ``Gamma`` (supplement S1 and
-    the ``gamma = g`` convention), at the particle's own ``(ell, nu, eps, k)``."""
-    return np.asarray(continuum.particle_parameters(ell, nu, Gamma, k=particle.k, eps=particle.eps).g, float)
+    the tiling's convention, ``continuum.line_tension``), at the particle's own ``(ell, nu, eps, k)``."""
+    return np.asarray(continuum.particle_parameters(ell, nu, Gamma, k=particle.k, eps=particle.eps,
+                                                    tiling=particle.tiling).g, float)
 
 
-def edge_line_tension(cut: int) -> float:
+def edge_line_tension(cut: int, tiling: str = "hexagon") -> float:
     """Binding cost per unit length of one straight edge of a cut-``cut`` fibre, in units of g,
-    counted on the discrete lattice: bonds broken per period, over the two edges and the period
-    length. Cut 0 (along a lattice vector): 1; cut 1: 2/sqrt(3); cut 2: 3/sqrt(7)."""
+    counted on the discrete lattice: bonds broken per period (the bulk's bonds per particle, from
+    the kernel's tiling, times the particles, less the fibre's bonds), over the two edges and the
+    period length. Hexagons: cut 0 (along a lattice vector) 1, cut 1 2/sqrt(3), cut 2 3/sqrt(7).
+    Triangles: cut 0 1/2, cut 1 3/4 (the mean of its flat edge, 1/2, and sawtooth one, 1), cut 2
+    1/sqrt(3)."""
     width = 8
-    t = topology.fiber(width, cut, curved=False)
-    period = np.linalg.norm(topology.site_positions([topology.FIBER_AXES[cut]])[0])
-    return (3 * width - t.n_bonds) / (2 * period)
+    t = topology.fiber(width, cut, curved=False, tiling=tiling)
+    period = np.linalg.norm(topology.cell_positions([topology.fiber_axis(cut, tiling)])[0])
+    bulk_bonds = topology.tiling_facts(tiling)["bulk_bonds_per_particle"] * t.n_particles
+    return (bulk_bonds - t.n_bonds) / (2 * period)
 
 
 #: Default segment lengths of ``finite_aggregates``, in units of sqrt(n): from a near-circular
@@ -205,6 +214,8 @@ def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", to
     """Relax the one-parameter family of single ``n``-particle aggregates, ``segments`` the
     lengths of their core segments (default ``FINITE_SEGMENTS * sqrt(n)``). Finite-size
     prediction for Monte Carlo: the best shape at binding energy ``g`` is ``best(g)``."""
+    if getattr(particle, "tiling", "hexagon") != "hexagon":
+        raise ValueError("particle: finite-size predictions are built for hexagon tilings only")
     if segments is None:
         segments = np.asarray(FINITE_SEGMENTS) * np.sqrt(n)
     segments = np.atleast_1d(np.asarray(segments, float))
