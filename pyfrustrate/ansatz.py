@@ -30,6 +30,13 @@ FAMILY_PHASE = {
 PHASES = ("bulk_with_holes", "disk", "fiber", "bulk")
 
 
+def winning_phase(family: str, g: float) -> str:
+    """Phase of a winning candidate: ``FAMILY_PHASE``, except that a single particle winning at
+    ``g > 0`` means no aggregate pays: a gas of monomers (triangles at very small Gamma, where a
+    bound pair already costs deformation; at ``g = 0`` every candidate of zero deformation ties)."""
+    return "gas" if family == "single" and g > 0 else FAMILY_PHASE[family]
+
+
 @dataclass(frozen=True)
 class Candidate:
     """One pre-made aggregate: its family (``FAMILY_PHASE``), integer size (disk radius R or fibre

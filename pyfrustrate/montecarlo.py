@@ -134,6 +134,7 @@ class AnnealResult:
     params: dict = field(repr=False)
     elapsed: float = 0.0
     resumed: bool = False
+    tiling: str = "hexagon"
 
     @property
     def cache_hit_rate(self) -> float:
@@ -143,8 +144,9 @@ class AnnealResult:
         return c["cache_hits"] / total if total else float("nan")
 
     def clusters(self) -> list[np.ndarray]:
-        """Final clusters, largest first: unwrapped lattice coordinates, each shape (k, 2)."""
-        return [c for c, _ in clusters(self.sites, self.box)]
+        """Final clusters, largest first: unwrapped sites, each shape (k, 2) (or (k, 3) for tilings
+        with several sublattices)."""
+        return [c for c, _ in clusters(self.sites, self.box, self.tiling)]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -472,7 +474,8 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
                         temperature=temps, energy_trace=energies, accepted=accepted,
                         stage_acceptance=stage_acceptance,
                         acceptance=float(accepted.sum() / max(1, total_steps)), counters=counters, seed=seed,
-                        params=params, elapsed=time.perf_counter() - start, resumed=resumed)
+                        params=params, elapsed=time.perf_counter() - start, resumed=resumed,
+                        tiling=particle.tiling)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -141,3 +141,14 @@ class Triangle(_SpringParticle):
 
     tiling: ClassVar[str] = "triangle"
     _kernel_class: ClassVar[object] = _kernel.TriangleModel
+
+
+#: The spring particle of each tiling.
+PARTICLE_OF_TILING = {"hexagon": Hexagon, "triangle": Triangle}
+
+
+def particle_class(tiling: str):
+    """The spring particle model of a tiling (``Hexagon`` or ``Triangle``)."""
+    if tiling not in PARTICLE_OF_TILING:
+        raise ValueError(f"tiling must be one of {tuple(PARTICLE_OF_TILING)}, got {tiling!r}")
+    return PARTICLE_OF_TILING[tiling]

@@ -12,7 +12,7 @@ from .io import atomic_path  # noqa: E402
 
 # Fig. 3 colour code: black bulk with holes, red disk, blue fibre, purple bulk.
 PHASE_COLORS = {"bulk_with_holes": "#1a1a1a", "disk": "#d3002d", "fiber": "#007e94", "bulk": "#7b3294",
-                "single": "#9e9e9e"}
+                "single": "#9e9e9e", "gas": "#b0b0b0"}
 YELLOW, RED_CORNER, BLUE_SPRING = "#e6b800", "#d3002d", "#3b78c2"
 # Colour of each corner slot (even slots red, odd yellow) and of each of the nine distances of
 # a random particle (random_particles.DISTANCE_PAIRS: yellow sides, red sides, hexagon sides).
@@ -106,7 +106,7 @@ def draw_ansatz_diagram(fig, ax, diagram: dict, continuum: dict, colorbar_axes=N
     for name in ("fiber", "disk"):
         field = np.ma.masked_where(phase != name, np.clip(length / ell, norm.vmin, norm.vmax))
         meshes[name] = ax.pcolormesh(G_edges, nu_edges, field, cmap=shaded_colormap(PHASE_COLORS[name]), norm=norm)
-    for name in ("bulk", "bulk_with_holes"):
+    for name in ("bulk", "bulk_with_holes", "gas"):
         field = np.ma.masked_where(phase != name, np.ones(phase.shape))
         ax.pcolormesh(G_edges, nu_edges, field, cmap=shaded_colormap(PHASE_COLORS[name]), vmin=0, vmax=1.05)
     line_nu = continuum["line_nu"]
@@ -117,8 +117,10 @@ def draw_ansatz_diagram(fig, ax, diagram: dict, continuum: dict, colorbar_axes=N
     ax.set_ylim(0, 1)
     ax.set_xlabel(r"line tension $\Gamma$")
     ax.set_ylabel(r"Poisson ratio $\nu$")
-    handles = [Patch(color=PHASE_COLORS[p], label=label) for p, label in
-               (("bulk_with_holes", "bulk with holes"), ("disk", "disk"), ("fiber", "fibre"), ("bulk", "bulk"))]
+    shown = (("bulk_with_holes", "bulk with holes"), ("disk", "disk"), ("fiber", "fibre"), ("bulk", "bulk"))
+    if np.any(phase == "gas"):
+        shown += (("gas", "single particles"),)
+    handles = [Patch(color=PHASE_COLORS[p], label=label) for p, label in shown]
     handles.append(plt.Line2D([], [], color="k", ls="--", lw=0.8, label=r"continuum ($\ell\to\infty$)"))
     ax.legend(handles=handles, loc="lower center", bbox_to_anchor=(0.5, 1.01), ncol=3, fontsize=7, frameon=False)
     if colorbar_axes is not None:

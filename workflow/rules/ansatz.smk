@@ -6,6 +6,7 @@ rule ansatz_catalogue:
     params:
         ell=lambda w: float(w.ell),
         nu=lambda w: float(w.nu),
+        tiling="hexagon",
         settings=ANSATZ,
     log:
         "results/logs/ansatz/catalogue_ell{ell}_nu{nu}.log",

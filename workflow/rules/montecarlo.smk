@@ -8,6 +8,7 @@ rule montecarlo_run:
         Gamma=lambda w: float(w.Gamma),
         seed=lambda w: int(w.seed),
         kind=lambda w: w.kind,
+        tiling="hexagon",
         checkpoint_stem=lambda w: f"results/montecarlo/checkpoints/{w.kind}_nu{w.nu}_G{w.Gamma}_seed{w.seed}",
         settings=MC,
     wildcard_constraints:

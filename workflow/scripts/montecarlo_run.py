@@ -7,14 +7,15 @@ import os
 
 import numpy as np
 
-from pyfrustrate import Hexagon, anneal, continuum
+from pyfrustrate import anneal, continuum
 from pyfrustrate.io import logging_to, save_npz
+from pyfrustrate.particles import particle_class
 
 s = snakemake.params.settings  # noqa: F821
 p = snakemake.params  # noqa: F821
 with logging_to(snakemake.log[0]):  # noqa: F821
-    particle = Hexagon.from_continuum(s["ell"], p.nu, eps=s["eps"])
-    g = float(continuum.particle_parameters(s["ell"], p.nu, p.Gamma, eps=s["eps"]).g)
+    particle = particle_class(p.tiling).from_continuum(s["ell"], p.nu, eps=s["eps"])
+    g = float(continuum.particle_parameters(s["ell"], p.nu, p.Gamma, eps=s["eps"], tiling=p.tiling).g)
     prefix = "" if p.kind == "sparse" else f"{p.kind}_"
     n, box, method, sweeps = (s[prefix + key] for key in ("n", "box", "method", "sweeps"))
     cluster_moves = s["cluster_moves"]
@@ -30,5 +31,5 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     save_npz(snakemake.output[0], sites=r.sites, box=box, n=n, nu=p.nu, Gamma=p.Gamma, ell=s["ell"],  # noqa: F821
              seed=p.seed, g=g, energy=r.energy, energy_trace=r.energy_trace, temperature=r.temperature,
              steps=r.steps, acceptance=r.acceptance, stage_acceptance=r.stage_acceptance, method=method,
-             cluster_sizes=np.array(sizes), cluster_moves=cluster_moves, kind=p.kind)
+             cluster_sizes=np.array(sizes), cluster_moves=cluster_moves, kind=p.kind, tiling=p.tiling)
     os.remove(checkpoint)  # the result is saved: nothing left to resume

@@ -1,0 +1,94 @@
+# Triangular particles (supplement, Fig. S6): their catalogue of pre-made aggregates, the ansatz
+# diagram at ell, and Monte Carlo snapshots. The same scripts as the hexagon's, with tiling="triangle".
+TRIANGLE = config["triangle"]
+TRIANGLE_MC = dict(TRIANGLE["montecarlo"], ell=TRIANGLE["ell"], eps=TRIANGLE["eps"])
+TRIANGLE_NU = sorted({round(min(float(x), TRIANGLE["nu_max"]), 4) for x in np.linspace(0, 1, TRIANGLE["nu_count"])})
+
+
+def triangle_catalogue_file(ell, nu):
+    return f"results/triangle/catalogue/ell{float(ell):g}_nu{float(nu):g}.npz"
+
+
+def triangle_run_files():
+    """Fig. S6d snapshots: the top row (sparse box) and the bottom row (dense box)."""
+    m = TRIANGLE_MC
+    runs = [("sparse", m["top_nu"], G) for G in m["top_Gamma"]]
+    runs += [("dense", m["bottom_nu"], G) for G in m["bottom_Gamma"]]
+    return [f"results/triangle/runs/{kind}_nu{float(nu):g}_G{float(G):g}.npz" for kind, nu, G in runs]
+
+
+rule triangle_catalogue:
+    output:
+        "results/triangle/catalogue/ell{ell}_nu{nu}.npz",
+    params:
+        ell=lambda w: float(w.ell),
+        nu=lambda w: float(w.nu),
+        tiling="triangle",
+        settings=TRIANGLE,
+    log:
+        "results/logs/triangle/catalogue_ell{ell}_nu{nu}.log",
+    script:
+        "../scripts/ansatz_catalogue.py"
+
+
+rule triangle_diagram:
+    input:
+        lambda w: [triangle_catalogue_file(w.ell, nu) for nu in TRIANGLE_NU],
+    output:
+        "results/triangle/diagram_ell{ell}.npz",
+    params:
+        ell=lambda w: float(w.ell),
+        nu=TRIANGLE_NU,
+        settings=TRIANGLE,
+    log:
+        "results/logs/triangle/diagram_ell{ell}.log",
+    script:
+        "../scripts/ansatz_diagram.py"
+
+
+rule triangle_montecarlo_run:
+    output:
+        "results/triangle/runs/{kind}_nu{nu}_G{Gamma}.npz",
+    params:
+        nu=lambda w: float(w.nu),
+        Gamma=lambda w: float(w.Gamma),
+        seed=TRIANGLE_MC["seed"],
+        kind=lambda w: w.kind,
+        tiling="triangle",
+        checkpoint_stem=lambda w: f"results/triangle/checkpoints/{w.kind}_nu{w.nu}_G{w.Gamma}",
+        settings=TRIANGLE_MC,
+    wildcard_constraints:
+        kind="sparse|dense",
+    log:
+        "results/logs/triangle/{kind}_nu{nu}_G{Gamma}.log",
+    script:
+        "../scripts/montecarlo_run.py"
+
+
+rule triangle_shapes:
+    output:
+        "results/triangle/shapes.npz",
+    params:
+        ell=TRIANGLE["ell"],
+        nu=0.5,
+        eps=TRIANGLE["drawing_eps"],
+    log:
+        "results/logs/triangle/shapes.log",
+    script:
+        "../scripts/triangle_shapes.py"
+
+
+rule figS6_triangle:
+    input:
+        shapes=rules.triangle_shapes.output[0],
+        diagram=f"results/triangle/diagram_ell{TRIANGLE['ell']:g}.npz",
+        continuum=rules.continuum_phase_diagram.output,
+        catalogue=triangle_catalogue_file(TRIANGLE["ell"], 0.5),
+        snapshots=triangle_run_files(),
+    output:
+        pdf=f"{FIGURES}/figS6_triangle.pdf",
+        png=f"{FIGURES}/figS6_triangle.png",
+    log:
+        "results/logs/figS6_triangle.log",
+    script:
+        "../../figures/figS6_triangle.py"
