@@ -39,10 +39,11 @@ def draw_triangles(ax, corners, energy=None, norm=None, linewidth=0.2):
 def draw_springs(ax, corners, springs, kinds, linewidth=1.0, nodes=True, markersize=10):
     """Every spring of every particle, coloured by kind, and the nodes."""
     corners = np.asarray(corners)
-    for kind, z in (("coupling", 1), ("red", 2), ("yellow", 3)):
+    # Red on top of yellow and thinner, so that sides that coincide (the bulk) show both.
+    for kind, z, width in (("coupling", 1, 1.0), ("yellow", 2, 1.6), ("red", 3, 0.7)):
         pairs = [(a, b) for (a, b), k in zip(springs, kinds) if k == kind]
         segments = [(c[a], c[b]) for c in corners for a, b in pairs]
-        ax.add_collection(LineCollection(segments, colors=SPRING_COLORS[kind], linewidths=linewidth, zorder=z))
+        ax.add_collection(LineCollection(segments, colors=SPRING_COLORS[kind], linewidths=width * linewidth, zorder=z))
     if nodes:
         flat = corners.reshape(-1, 6, 2)
         ax.scatter(*flat[:, :3].reshape(-1, 2).T, s=markersize, color=plotting.YELLOW, edgecolor="k", lw=0.3, zorder=4)
@@ -54,13 +55,13 @@ def draw_springs(ax, corners, springs, kinds, linewidth=1.0, nodes=True, markers
 
 def panel_particle(fig, d):
     springs, kinds = d["springs"], d["spring_kinds"]
-    ax = fig.add_axes([0.01, 0.76, 0.14, 0.2])
+    ax = fig.add_axes([0.03, 0.76, 0.13, 0.18])
     draw_springs(ax, d["single_corners"], springs, kinds, linewidth=1.4, markersize=18)
     plotting.panel_label(ax, "a")
-    ax.set_title(rf"one particle ($\epsilon={float(d['eps']):g}$)", fontsize=7)
-    ax = fig.add_axes([0.16, 0.76, 0.16, 0.2])
+    ax.set_title("one particle", fontsize=7)
+    ax = fig.add_axes([0.17, 0.76, 0.15, 0.18])
     draw_springs(ax, d["pair_corners"], springs, kinds, linewidth=1.0, markersize=12)
-    ax.set_title(f"bound pair: {float(d['pair_per_particle']):.2f} bulk energy per particle", fontsize=7)
+    ax.set_title(f"bound pair: {float(d['pair_per_particle']):.4f}\nbulk energy per particle", fontsize=7)
 
 
 def panel_aggregates(fig, d, norm):
@@ -83,8 +84,8 @@ def panel_bulk(fig, d):
     centre = corners.reshape(-1, 2).mean(axis=0)
     keep = np.linalg.norm(corners.mean(axis=1) - centre, axis=1) < 1.6
     draw_springs(ax, corners[keep], d["springs"], d["spring_kinds"], linewidth=1.0, markersize=8)
-    plotting.panel_label(ax, "c")
-    ax.set_title("bulk: yellow and red sides match", fontsize=7)
+    ax.text(-0.12, 1.0, "(c)", transform=ax.transAxes, ha="right", va="bottom", fontweight="bold")
+    ax.set_title("bulk: yellow and red sides match\n(shared nodes; rest lengths $1 \\pm \\epsilon$)", fontsize=7)
 
 
 def panel_diagram(fig, diagram, continuum, runs):
@@ -92,7 +93,7 @@ def panel_diagram(fig, diagram, continuum, runs):
     plotting.draw_ansatz_diagram(fig, ax, diagram, continuum)
     gas = np.asarray(diagram["gas_Gamma"])
     ax.text(0.98, 0.03, rf"$\ell = {float(diagram['ell']):g}$", transform=ax.transAxes, fontsize=9, color="w", ha="right")
-    inset = ax.inset_axes([0.07, 0.58, 0.3, 0.32])
+    inset = ax.inset_axes([0.69, 0.5, 0.28, 0.3])
     inset.semilogx(gas, diagram["nu"], color=plotting.PHASE_COLORS["gas"], lw=1.2)
     inset.fill_betweenx(diagram["nu"], 1e-5, gas, color=plotting.PHASE_COLORS["gas"], alpha=0.6)
     inset.set_xlim(1e-4, 1e-1)
@@ -100,13 +101,13 @@ def panel_diagram(fig, diagram, continuum, runs):
     inset.set_xlabel(r"$\Gamma$ (log)", fontsize=5, labelpad=1)
     inset.set_ylabel(r"$\nu$", fontsize=5, labelpad=1)
     inset.tick_params(labelsize=5, pad=1)
-    inset.set_title("single particles win", fontsize=5, pad=2)
+    inset.set_title("single particles win (grey)", fontsize=5, pad=2)
     inset.patch.set_alpha(0.9)
     for k, r in enumerate(runs, start=1):
         point = (float(r["Gamma"]), float(r["nu"]))
         ax.plot(*point, "s", ms=6, mfc="w", mec="k", mew=0.7, zorder=6)
         ax.annotate(str(k), point, xytext=(4, 4), textcoords="offset points", fontsize=6, zorder=7)
-    plotting.panel_label(ax, "d")
+    ax.text(-0.14, 1.0, "(d)", transform=ax.transAxes, ha="right", va="bottom", fontweight="bold")
 
 
 def panel_snapshots(fig, runs):
@@ -114,7 +115,7 @@ def panel_snapshots(fig, runs):
     width, height = 0.52 / cols, 0.34 / rows
     for k, r in enumerate(runs, start=1):
         i, j = divmod(k - 1, cols)
-        sub = fig.add_axes([0.47 + j * width, 0.66 - (i + 1) * height, width * 0.96, height * 0.84])
+        sub = fig.add_axes([0.5 + j * width * 0.93, 0.66 - (i + 1) * height, width * 0.9, height * 0.84])
         box = int(r["box"])
         draw_snapshot(r["sites"], box, ax=sub, tiling=TILING)
         coords, _ = clusters(r["sites"], box, TILING)[0]
@@ -125,8 +126,10 @@ def panel_snapshots(fig, runs):
         half = max(12.0, 0.5 * np.ptp(xy, axis=0).max() + 2)
         sub.set_xlim(c[0] - half, c[0] + half)
         sub.set_ylim(c[1] - 0.8 * half, c[1] + 0.8 * half)
-        sub.set_title(rf"{k}: $\Gamma$={float(r['Gamma']):g}, $\nu$={float(r['nu']):g}, {int(r['n'])} in "
-                      rf"{box}$\times${box}", fontsize=6)
+        sub.set_title(rf"{k}: $\Gamma$={float(r['Gamma']):g}", fontsize=6)
+        if j == 0:
+            sub.text(-0.08, 0.5, rf"$\nu$={float(r['nu']):g}" + f"\n{int(r['n'])} in {box}x{box}", transform=sub.transAxes,
+                     ha="right", va="center", fontsize=6)
 
 
 def panel_catalogue(fig, d, norm):

@@ -112,3 +112,36 @@ def test_hexagon_particles_on_a_triangle_tiling_are_refused():
         pf.relax(pf.Hexagon(), T.bulk("triangle"))
     with pytest.raises(ValueError, match="tiling"):
         pf.relax(pf.Triangle(), T.disk(2))
+
+
+@pytest.fixture(scope="module")
+def triangle_catalogues():
+    ell = 2.5
+    out = {}
+    for nu in (0.2, 0.5, 0.9):
+        particle = pf.Triangle.from_continuum(ell, nu, eps=EPS)
+        out[nu] = (particle, ansatz.relax_catalogue(particle, ansatz.catalogue(10, 14, tiling="triangle")))
+    return ell, out
+
+
+def test_supplement_statements_on_the_ansatz_diagram(triangle_catalogues):
+    """Supplement, "Triangular particles": single particles win at very small Gamma (a bound pair
+    costs deformation), no bulk with holes ever wins, and the fibre-bulk frontier is vertical
+    (no fibre curves)."""
+    ell, catalogues = triangle_catalogues
+    Gamma = np.concatenate([[1e-4], np.linspace(0, 1.6, 801)[1:]])
+    frontier = {}
+    for nu, (particle, table) in catalogues.items():
+        g = ansatz.binding_energy_of(particle, ell, nu, Gamma)
+        families = [f for f in np.unique(table.family) if f != "fiber_cut0_straight"]
+        winners = table.family[table.winners(g, families)]
+        phases = [ansatz.winning_phase(f, gv) for f, gv in zip(winners, g)]
+        assert phases[0] == "gas"  # Gamma = 1e-4
+        assert "gas" not in phases[5:]  # Gamma >= 0.01: the window is narrow at ell = 2.5 (0.001-0.004)
+        assert not any(p == "bulk_with_holes" for p in phases)
+        first_bulk = Gamma[phases.index("bulk")]
+        frontier[nu] = first_bulk
+        if "fiber" in phases:
+            assert phases[phases.index("bulk") - 1] == "fiber"
+    assert frontier[0.5] == pytest.approx(frontier[0.9], abs=0.01)
+    assert frontier[0.9] == pytest.approx(1.0, abs=0.03)
