@@ -3,6 +3,25 @@
 // energy at fixed topology); the loop over particles and the period map are written once here
 // for every particle model.
 //
+// The particle contract: what Network, the minimisers, the linear solve and the Monte Carlo
+// ask of a particle model (HexagonModel, RandomHexagonModel, TriangleModel), a small stateless
+// value:
+//   static constexpr TilingKind kTiling;        the tiling its topologies use (tiling.hpp)
+//   static constexpr int kCornerCount;          its corners, checked below against the tiling's
+//   static constexpr PointGroup kPointGroup;    its own symmetry (C3, D3), in its own frame: the
+//                                               Monte Carlo keys shapes with it (shape_key.hpp)
+//   using Corners, Hessian;                     CornerArray<kCornerCount>, CornerMatrix<...>
+//   static Corners rest_corners();              rest shape without mismatch, own frame, about its
+//                                               site centre (the tiling's slot offsets agree)
+//   double energy_of_displacement(disp, Corners* grad, Hessian* hess) const;
+//                                               energy of corners displaced by disp from
+//                                               rest_corners, gradient and Hessian on request
+//   Model without_mismatch() const;             eps = 0: its Hessian at rest is the stiffness of
+//                                               the linear solve
+//   double step_scale() const;                  typical corner displacement (the mismatch)
+// Optional: energy_lanes<kLanes> and an overload of vectorised_finite_energy (hexagon.hpp).
+// tests/test_particle_contract.py checks every model against it.
+//
 // Frames. A particle's rest shape is the model's, turned by its sublattice's frame (tiling.hpp;
 // the down triangles of the triangle tiling are the up ones turned by 180 degrees): the model
 // sees its corners' displacements turned back into its own frame, and its forces and stiffness
