@@ -29,9 +29,8 @@ DISTANCE_PAIRS = tuple(tuple(p) for p in _kernel.RandomHexagonModel.distance_pai
 HEXAGON_AREA = SQRT3 / 2  # A_0^hex of the supplement's pseudo-modulus (zeroth order in eps)
 
 # Slot s of a particle at rest (bulk reference, eps = 0): 1/sqrt(3) from its site at 30 + 60 s
-# degrees; even slots red, odd yellow (topology.hpp).
-_ANGLES = np.deg2rad(30 + 60 * np.arange(6))
-REST_CORNERS = np.column_stack([np.cos(_ANGLES), np.sin(_ANGLES)]) / SQRT3
+# degrees; even slots red, odd yellow (the kernel's rest shape, kernel/hexagon.hpp).
+REST_CORNERS = np.asarray(_kernel.RandomHexagonModel.rest_corners()).reshape(6, 2)
 
 # Deformation vectors of the supplement's pseudo-moduli (Eqs. S24-S28).
 _S = 2 ** -1.5
