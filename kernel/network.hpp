@@ -237,6 +237,10 @@ struct Network {
             throw std::invalid_argument(std::string("topology: a ") + topology.tiling().name +
                                         " tiling cannot carry this particle, whose tiling is the " +
                                         tiling_of(Model::kTiling).name + " one");
+        for (int s = 0; s < topology.tiling().sublattices; ++s) {
+            frames_[s] = frame_matrix(topology.tiling(), s);
+            turned_[s] = frames_[s] != Mat2::Identity();
+        }
     }
 
     int size() const { return 2 * topology.n_corners() + topology.n_period_parameters(); }
@@ -254,7 +258,7 @@ struct Network {
     // free of any arithmetic).
     const Mat2* frame(int p) const {
         const int sub = topology.sites[p][2];
-        return sub == 0 && topology.tiling().frame[0][0] == 1.0 ? nullptr : &frames_[sub];
+        return turned_[sub] ? &frames_[sub] : nullptr;
     }
     // Corner vectors turned into (inverse: out of) the particle's frame.
     static void turn(const Mat2* f, Corners& c, bool into) {
@@ -474,9 +478,9 @@ struct Network {
     }
 
    private:
-    // Each sublattice's frame as a matrix, made once.
-    std::array<Mat2, kMaxSublattices> frames_{frame_matrix(topology.tiling(), 0),
-                                              frame_matrix(topology.tiling(), topology.tiling().sublattices - 1)};
+    // Each sublattice's frame as a matrix, made once, and whether it is not the identity.
+    std::array<Mat2, kMaxSublattices> frames_{};
+    std::array<bool, kMaxSublattices> turned_{};
 };
 
 }  // namespace pyfrustrate
