@@ -165,3 +165,13 @@ def test_reference_energy_is_even_in_eps(spring_model):
         model = MODELS[spring_model](eps)._kernel_model
         values.append(energy(model, np.zeros(12)) / eps**2)
     assert (values[2] - values[1]) / (values[1] - values[0]) == pytest.approx(4, rel=0.05)
+
+
+def test_tiling_slot_offsets_are_the_rest_shape_in_each_frame(name):
+    """The tiling places corners (topology) and the model evaluates from its rest shape: the
+    two views agree, sublattice by sublattice, once the rest shape is turned by the frame."""
+    particle = MODELS[name](0.05)
+    facts = T.tiling_facts(particle.tiling)
+    rest = particle._kernel_model.rest_corners().reshape(-1, 2)
+    for offsets, frame in zip(facts["slot_offsets"], facts["frames"]):
+        assert np.allclose(np.asarray(offsets), rest @ np.asarray(frame).T, atol=1e-14)
