@@ -13,6 +13,7 @@
 #include "tiling.hpp"
 #include "topology.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace pyfrustrate {

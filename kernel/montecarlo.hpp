@@ -90,7 +90,7 @@ public:
     void place(const std::vector<Site>& sites);
 
     // One attempted move at temperature T >= 0 (Metropolis, or delayed acceptance; at T = 0 a
-    // move is accepted iff dE <= 0, resp. dE_s <= 0 and dE <= dE_s), or with probability
+    // move is accepted iff dE <= 0 either way: a quench), or with probability
     // options.cluster_moves a cluster translation; and `steps` of them; run returns the number
     // accepted.
     bool step(double T);
@@ -381,12 +381,19 @@ inline bool MonteCarlo<Model>::particle_step(double T) {
     const int gained = occupied_neighbours(b);  // bonds at b (a is now empty)
     // Delayed acceptance, first stage: the surrogate energy, without relaxation. Uniform
     // deviates are drawn whatever the energy change, so that roundoff in an energy can never
-    // shift the random sequence.
-    const double surrogate = options_.delayed_acceptance ? -(g_ - options_.bond_deformation) * (gained - lost) : 0.0;
-    if (options_.delayed_acceptance && !metropolis(surrogate, T, uniform01())) {
-        undo();
-        ++counters.screened;
-        return false;
+    // shift the random sequence. At T = 0 there is no distribution to keep, only a descent:
+    // every move that lowers the energy is taken, which the two stages would refuse whenever the
+    // surrogate overstates a gain (a bound pair of triangles costs far less than e_b per bond,
+    // so below the gas threshold pairs would never break).
+    const bool delayed = options_.delayed_acceptance && T > 0;
+    const double surrogate = delayed ? -(g_ - options_.bond_deformation) * (gained - lost) : 0.0;
+    if (options_.delayed_acceptance) {
+        const double u = uniform01();
+        if (delayed && !metropolis(surrogate, T, u)) {
+            undo();
+            ++counters.screened;
+            return false;
+        }
     }
     double old_deformation = 0.0, new_deformation = 0.0;
     try {

@@ -16,7 +16,8 @@ Christen & Fox 2005: surrogate energy ``-(g - e_b/b) * bonds``, ``b`` the bonds 
 particle: 3 for hexagons, 3/2 for triangles), and clusters are relaxed only
 for the moves that pass; the second stage accepts with the ratio of the true to the surrogate
 Boltzmann factors. The chain samples exactly ``exp(-E/T)`` at every temperature, like plain
-Metropolis (``delayed_acceptance=False``), with most relaxations skipped at low ``T``.
+Metropolis (``delayed_acceptance=False``), with most relaxations skipped at low ``T``. At
+``T = 0`` the run is a descent: every move that lowers the energy is taken.
 
 The kernel (``kernel/montecarlo.hpp``) recomputes only the clusters a move leaves and joins and
 caches relaxed energies by shape up to translations and the symmetries the particle shares with

@@ -531,3 +531,22 @@ def test_classify_aggregate_reads_known_shapes():
     honeycomb = np.array([(i, j) for i in range(12) for j in range(12) if (i - j) % 3])
     assert classify_aggregate(honeycomb, box)[0] == "bulk_with_holes"
     assert classify_aggregate([(0, 0), (5, 5)], box) == ("gas", 1)
+
+
+def test_zero_temperature_takes_every_descending_move_with_delayed_acceptance():
+    """At T = 0 the chain is a descent. Below the line tension at which any aggregate pays
+    (triangles: a bound pair costs far less than the surrogate's bulk energy per bond), a
+    configuration of bound pairs must fall apart into single particles: energy 0, no bonds.
+    The two-stage screening alone would refuse those moves (its surrogate overstates the gain)."""
+    particle = pyfrustrate.Triangle.from_continuum(2.5, 0.5, eps=0.01)
+    pair = relax(particle, T.cluster([(0, 0, 0), (0, 0, 1)], tiling="triangle"), tol=1e-12).energy
+    g = 0.5 * pair  # a bond gains less than the pair's deformation costs
+    sites = [(4 * i, 4 * j, s) for i in range(3) for j in range(3) for s in (0, 1)]  # nine pairs
+    mc = _kernel.MonteCarlo(particle._kernel_model, g, 12, len(sites), 5, "linear", 1e-8,
+                            bond_deformation=particle.bulk_energy_per_particle / 1.5)
+    mc.place(np.array(sites, dtype=np.int32))
+    assert mc.bonds == 9
+    mc.run(np.array([0.0]), np.array([4000]))
+    assert mc.bonds == 0
+    assert abs(mc.energy) < 1e-12 * pair  # the running sum keeps round-off of the relaxed energies
+    assert mc.box_energy(True) == 0.0
