@@ -40,3 +40,21 @@ def mc_finite_size_files():
     runs += [(nu, MC["nu_scan_Gamma"], first, "large") for nu in MC["large_nu_scan_nu"]]
     runs += [(MC["fiber_scan_nu"], G, first) for G in MC["fiber_scan_Gamma"]]
     return sorted({mc_run_file(*r) for r in runs})
+
+
+# Triangular particles (Fig. S6): settings, the nu grid of their diagram, their files.
+TRIANGLE = config["triangle"]
+TRIANGLE_MC = dict(TRIANGLE["montecarlo"], ell=TRIANGLE["ell"], eps=TRIANGLE["eps"])
+TRIANGLE_NU = sorted({round(min(float(x), TRIANGLE["nu_max"]), 4) for x in np.linspace(0, 1, TRIANGLE["nu_count"])})
+
+
+def triangle_catalogue_file(ell, nu):
+    return f"results/triangle/catalogue/ell{float(ell):g}_nu{float(nu):g}.npz"
+
+
+def triangle_run_files():
+    """Fig. S6d snapshots: the top row (sparse box) and the bottom row (dense box)."""
+    m = TRIANGLE_MC
+    runs = [("sparse", m["top_nu"], G) for G in m["top_Gamma"]]
+    runs += [("dense", m["bottom_nu"], G) for G in m["bottom_Gamma"]]
+    return [f"results/triangle/runs/{kind}_nu{float(nu):g}_G{float(G):g}.npz" for kind, nu, G in runs]

@@ -1,21 +1,6 @@
 # Triangular particles (supplement, Fig. S6): their catalogue of pre-made aggregates, the ansatz
 # diagram at ell, and Monte Carlo snapshots. The same scripts as the hexagon's, with tiling="triangle".
-TRIANGLE = config["triangle"]
-TRIANGLE_MC = dict(TRIANGLE["montecarlo"], ell=TRIANGLE["ell"], eps=TRIANGLE["eps"])
-TRIANGLE_NU = sorted({round(min(float(x), TRIANGLE["nu_max"]), 4) for x in np.linspace(0, 1, TRIANGLE["nu_count"])})
-
-
-def triangle_catalogue_file(ell, nu):
-    return f"results/triangle/catalogue/ell{float(ell):g}_nu{float(nu):g}.npz"
-
-
-def triangle_run_files():
-    """Fig. S6d snapshots: the top row (sparse box) and the bottom row (dense box)."""
-    m = TRIANGLE_MC
-    runs = [("sparse", m["top_nu"], G) for G in m["top_Gamma"]]
-    runs += [("dense", m["bottom_nu"], G) for G in m["bottom_Gamma"]]
-    return [f"results/triangle/runs/{kind}_nu{float(nu):g}_G{float(G):g}.npz" for kind, nu, G in runs]
-
+# Names shared with other rules (TRIANGLE, TRIANGLE_MC, TRIANGLE_NU, file names) live in common.smk.
 
 rule triangle_catalogue:
     output:
