@@ -16,6 +16,10 @@ minimisations of Eq. 4:
 * Eq. 13: the deformation term of the disk energy lacks a factor ``1 + nu``;
 * Eq. 2: the force balance of Eq. 1 has ``2 kc`` on the right, as Eq. 3 assumes.
 
+The theory holds over the whole range of 2D elasticity, ``-1 < nu <= 1`` (auxetic sheets
+included): every function takes it, and ``tests/test_continuum.py`` checks negative ``nu`` by the
+same independent minimisations as positive ones.
+
 All functions broadcast their arguments (numpy rules) and return an ndarray, or a numpy scalar
 for scalar input. Invalid input raises ValueError naming the parameter.
 """
@@ -61,7 +65,7 @@ def _checked(name, value, lo=-np.inf, hi=np.inf, lo_open=False, hi_open=False, f
 
 
 def _nu_gamma(nu, Gamma):
-    nu, Gamma = np.broadcast_arrays(_checked("nu", nu, lo=0.0, hi=1.0),
+    nu, Gamma = np.broadcast_arrays(_checked("nu", nu, lo=-1.0, hi=1.0, lo_open=True),
                                     _checked("Gamma", Gamma, lo=0.0))
     return nu.ravel(), Gamma.ravel(), Gamma.shape
 
@@ -237,7 +241,7 @@ def fiber_energy(w, nu, Gamma):
     fibres keep full relative precision (the energy -> 0 as nu -> 1).
     """
     w = _checked("w", w, lo=0.0, lo_open=True, finite=False)
-    nu = _checked("nu", nu, lo=0.0, hi=1.0)
+    nu = _checked("nu", nu, lo=-1.0, hi=1.0, lo_open=True)
     Gamma = _checked("Gamma", Gamma, lo=0.0)
     y = w / 2.0
     small = y < 1.0
@@ -259,7 +263,7 @@ def fiber_displacement(x, w, nu):
     """
     x = _checked("x", x)
     w = _checked("w", w, lo=0.0, lo_open=True)
-    nu = _checked("nu", nu, lo=0.0, hi=1.0)
+    nu = _checked("nu", nu, lo=-1.0, hi=1.0, lo_open=True)
     x, w, nu = np.broadcast_arrays(x, w, nu)
     if (np.abs(x) > w / 2.0).any():
         raise ValueError("x must satisfy |x| <= w/2")
@@ -385,7 +389,7 @@ def disk_energy(r, nu, Gamma):
     ``1 - u_up(R)/(eps R)`` plus the line tension. ``r = inf`` is the bulk (1).
     """
     r = _checked("r", r, lo=0.0, lo_open=True, finite=False)
-    nu = _checked("nu", nu, lo=0.0, hi=1.0)
+    nu = _checked("nu", nu, lo=-1.0, hi=1.0, lo_open=True)
     Gamma = _checked("Gamma", Gamma, lo=0.0)
     with np.errstate(divide="ignore"):
         return _out(1.0 / (1.0 + (1.0 + nu) / (r * _rho_sigma(r)[0])) + (1.0 + nu) * Gamma / r)
@@ -401,7 +405,7 @@ def disk_displacement(rho, r, nu):
     """
     rho = _checked("rho", rho, lo=0.0)
     r = _checked("r", r, lo=0.0, lo_open=True)
-    nu = _checked("nu", nu, lo=0.0, hi=1.0)
+    nu = _checked("nu", nu, lo=-1.0, hi=1.0, lo_open=True)
     rho, r, nu = np.broadcast_arrays(rho, r, nu)
     if (rho > r).any():
         raise ValueError("rho must satisfy 0 <= rho <= r")
@@ -518,7 +522,7 @@ def critical_line_tensions(nu):
     ``Delta = (tanh(x/2) - s(x))/x``. The disk-fibre boundaries are the roots of ``Delta`` on
     either side of that peak. Returns a ``CriticalLineTensions`` shaped like ``nu``.
     """
-    nu = _checked("nu", nu, lo=0.0, hi=1.0)
+    nu = _checked("nu", nu, lo=-1.0, hi=1.0, lo_open=True)
     flat = nu.ravel()
     grid, terms = _radius_grid()
     size = grid.size

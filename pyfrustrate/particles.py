@@ -67,12 +67,13 @@ class _SpringParticle:
     def from_continuum(cls, ell: float, nu: float, eps: float = 0.01, k: float = 1.0):
         """The particle whose continuum limit has boundary-layer length ``ell`` and Poisson ratio
         ``nu`` (inverse of supplement S1, the same for both tilings): ``kc = k / (8 (1 - nu) ell^2)``,
-        ``k_area = sqrt(3) k (3 nu - 1) / (2 (1 - nu))``. ``nu = 1`` is singular (``k_area``
-        infinite): use ``nu < 1``."""
+        ``k_area = sqrt(3) k (3 nu - 1) / (2 (1 - nu))``, for ``-1 < nu < 1``: negative ``nu``
+        (auxetic sheets) takes ``k_area`` below ``-sqrt(3) k / 2``, down to the stability limit
+        ``-sqrt(3) k`` at ``nu = -1``. ``nu = 1`` is singular (``k_area`` infinite): use ``nu < 1``."""
         if not np.isfinite(ell) or ell <= 0:
             raise ValueError(f"ell must be positive and finite, got {ell!r}")
-        if not (0 <= nu < 1):
-            raise ValueError(f"nu must lie in [0, 1) for a discrete particle, got {nu!r}")
+        if not (-1 < nu < 1):
+            raise ValueError(f"nu must lie in (-1, 1) for a discrete particle, got {nu!r}")
         p = continuum.particle_parameters(ell, nu, 0.0, k=k, eps=eps, tiling=cls.tiling)
         return cls(k=k, kc=float(p.kc), k_area=float(p.k_area), eps=eps)
 

@@ -101,7 +101,8 @@ def disk_bvp(r, nu):
     return sol, simpson(dens * 2.0 * np.pi * rs, x=rs) / (np.pi * r**2)
 
 
-CASES = [(w, nu) for w in (0.4, 2.0, 7.0) for nu in (0.0, 0.3, 0.99)]
+# Negative nu (auxetic sheets) down to -0.95: 2D elasticity allows nu > -1.
+CASES = [(w, nu) for w in (0.4, 2.0, 7.0) for nu in (-0.95, -0.5, 0.0, 0.3, 0.99)]
 
 
 @pytest.mark.parametrize("w, nu", CASES)
@@ -155,9 +156,10 @@ def fiber_fd(w, nu, n):
     for j in range(n):
         for off, e in ((0, EPS), (n + 1, -EPS)):
             grad = {off + j + 1: 1.0 / h, off + j: -1.0 / h}
-            rows.append((h * lam / 2, {**grad, iphi: 1.0}, 2 * e))
-            rows.append((h * MU, grad, e))
-            rows.append((h * MU, {iphi: 1.0}, e))
+            # mu (a^2 + b^2) + lam/2 (a + b)^2 (strains from rest a, b) written as positive
+            # squares for every nu > -1: (lam + mu)/2 (a + b)^2 + mu/2 (a - b)^2.
+            rows.append((h * (lam + MU) / 2, {**grad, iphi: 1.0}, 2 * e))
+            rows.append((h * MU / 2, {**grad, iphi: -1.0}, 0.0))
         rows.append((h * kap / 2, {j: 0.5, j + 1: 0.5, n + 1 + j: -0.5, n + 2 + j: -0.5}, 0.0))
     rows.append((1.0, {0: 1.0, n: 1.0, n + 1: 1.0, 2 * n + 1: 1.0}, 0.0))  # translation gauge
     energy, z = least_squares_energy(rows, 2 * n + 3)
@@ -177,7 +179,8 @@ def disk_fd(r, nu, n):
             mid = {**{k: v / 2 for k, v in left.items()}, off + j + 1: 0.5}
             hoop = {k: v / rm for k, v in mid.items()}
             both = {k: grad.get(k, 0.0) + hoop.get(k, 0.0) for k in {**grad, **hoop}}
-            rows += [(wt * lam / 2, both, 2 * e), (wt * MU, grad, e), (wt * MU, hoop, e)]
+            minus = {k: grad.get(k, 0.0) - hoop.get(k, 0.0) for k in {**grad, **hoop}}
+            rows += [(wt * (lam + MU) / 2, both, 2 * e), (wt * MU / 2, minus, 0.0)]  # as fiber_fd
             mids.append(mid)
         diff = {k: mids[0].get(k, 0.0) - mids[1].get(k, 0.0) for k in {**mids[0], **mids[1]}}
         rows.append((wt * kap / 2, diff, 0.0))
@@ -187,7 +190,8 @@ def disk_fd(r, nu, n):
 
 @pytest.mark.parametrize("geometry, size, nu", [("fiber", 3.0, 0.0), ("fiber", 1.5, 0.99),
                                                 ("disk", 3.0, 0.0), ("disk", 1.5, 0.99),
-                                                ("disk", 4.0, 0.45)])
+                                                ("disk", 4.0, 0.45), ("fiber", 2.0, -0.7),
+                                                ("disk", 2.0, -0.7)])
 def test_finite_differences_converge_to_closed_forms(geometry, size, nu):
     solver, exact = {"fiber": (fiber_fd, continuum.fiber_energy),
                      "disk": (disk_fd, continuum.disk_energy)}[geometry]
@@ -217,7 +221,8 @@ COARSE = np.logspace(-3, 4, 14001)
 
 
 @pytest.mark.parametrize("nu, gamma", [(0.95, 0.5), (0.2, 0.5), (0.0, 1e-4), (0.3, 0.9),
-                                       (0.0, 1.05), (0.45, 0.999), (0.7, 0.99)])
+                                       (0.0, 1.05), (0.45, 0.999), (0.7, 0.99), (-0.5, 0.5),
+                                       (-0.9, 1.5), (-0.9, 3.5), (-0.3, 1e-4)])
 @pytest.mark.parametrize("kind", ["fiber", "disk"])
 def test_optimal_sizes_are_stationary_global_minima(nu, gamma, kind):
     energy, best = {"fiber": (continuum.fiber_energy, continuum.optimal_width),
@@ -251,11 +256,18 @@ def brute_minima(nu, gamma, sizes=SIZES):
 
 
 def test_disk_bulk_line_against_brute_force_and_triple_point():
-    nus = np.array([0.0, 0.25, 0.45, 0.49, 0.499, 0.4999, 0.5, 0.7, 1.0])
+    nus = np.array([-0.9, -0.5, 0.0, 0.25, 0.45, 0.49, 0.499, 0.4999, 0.5, 0.7, 1.0])
     crit = continuum.critical_line_tensions(nus)
     for nu, g in zip(nus, crit.disk_bulk):
         s = SIZES * (1.0 - continuum.disk_energy(SIZES, nu, 0.0)) / (1.0 + nu)  # 2 I1(r)/D(r)
-        assert g == pytest.approx(max(s.max(), 1.0), abs=1e-9)
+        # Refined on a fine linear grid around the coarse maximum (sharp peaks at nu -> -1).
+        i = int(np.argmax(s))
+        fine = np.linspace(SIZES[max(i - 1, 0)], SIZES[min(i + 1, SIZES.size - 1)], 20001)
+        s_fine = fine * (1.0 - continuum.disk_energy(fine, nu, 0.0)) / (1.0 + nu)
+        assert g == pytest.approx(max(s.max(), s_fine.max(), 1.0), abs=1e-9)
+    assert np.all(np.isnan(crit.disk_fiber[:2]))  # auxetic sheets: disks beat fibres outright
+    crit = continuum.critical_line_tensions(nus[2:])
+    nus = nus[2:]
     below = crit.disk_bulk[:6]
     assert np.all(below > 1.0) and np.all(np.diff(below) < 0) and below[-1] - 1.0 < 1e-6
     assert np.all(crit.disk_bulk[6:] == 1.0) and np.all(crit.fiber_bulk == 1.0)
@@ -287,7 +299,7 @@ def test_disk_fiber_line_meets_the_triple_point():
             assert continuum.phase(nu, gg) == ("disk" if expected else "fiber")
 
 
-@pytest.mark.parametrize("nu", [0.0, 0.3, 0.46, 0.6, 0.9])
+@pytest.mark.parametrize("nu", [-0.9, -0.5, 0.0, 0.3, 0.46, 0.6, 0.9])
 def test_phase_agrees_with_brute_force(nu):
     gammas = np.linspace(0.0, 1.15, 24)[1:]
     got = continuum.phase(nu, gammas)
@@ -441,7 +453,7 @@ def test_chain_ell_limits():
     (lambda: continuum.particle_parameters(2.0, 0.3, -0.5), "Gamma"),
     (lambda: continuum.fiber_energy(0.0, 0.3, 0.5), "w"),
     (lambda: continuum.fiber_energy(1.0, 1.1, 0.5), "nu"),
-    (lambda: continuum.fiber_energy(1.0, -0.1, 0.5), "nu"),
+    (lambda: continuum.fiber_energy(1.0, -1.0, 0.5), "nu"),
     (lambda: continuum.disk_energy(-1.0, 0.3, 0.5), "r"),
     (lambda: continuum.disk_energy(1.0, 0.3, -1e-3), "Gamma"),
     (lambda: continuum.disk_energy(1.0, np.nan, 0.5), "nu"),
@@ -450,7 +462,7 @@ def test_chain_ell_limits():
     (lambda: continuum.optimal_width(0.3, np.nan), "Gamma"),
     (lambda: continuum.optimal_radius(2.0, 0.5), "nu"),
     (lambda: continuum.phase(0.3, -1.0), "Gamma"),
-    (lambda: continuum.critical_line_tensions(-0.1), "nu"),
+    (lambda: continuum.critical_line_tensions(-1.1), "nu"),
     (lambda: continuum.chain_ell(-1.0), "kc_over_k"),
     (lambda: continuum.line_tension(-1.0), "g"),
     (lambda: continuum.binding_energy(-1.0), "gamma"),
