@@ -2,8 +2,9 @@
 (b) the paper's measurement of ell: excess energy per particle against the distance from the
 edge of a half-plane (a wide strip), fitted, beside the exact slowest mode of the
 layer-to-layer transfer problem; (c) ell against the predictor ell_pred of the supplement
-(inset: the strip fit against the exact ell); (d) optimal fibre width and disk radius over ell
-against Gamma, with the continuum predictions (red)."""
+(inset: the strip fit against the exact ell); (d) each particle's optimal fibre width and disk
+radius over its own continuum prediction (its own nu and ell), against Gamma over its own
+Gamma_max: the test of the paper's "centred around W* and R* predicted by the continuum"."""
 import numpy as np
 
 from pyfrustrate import continuum, plotting
@@ -89,38 +90,65 @@ def draw_fit_check(ax, fits):
             transform=ax.transAxes, va="top", fontsize=6)
 
 
-def draw_sizes(ax, sizes, kind):
-    G = sizes["Gamma"]
+def continuum_size(kind, nu, Gamma):
+    """Each particle's own continuum prediction (its nu; Gamma in absolute units), over ell."""
+    return continuum.optimal_width(nu, Gamma) if kind == "fiber" else continuum.optimal_radius(nu, Gamma)
+
+
+def draw_size_ratios(ax, sizes, kind):
+    """W*/W*_continuum and R*/R*_continuum of each particle against its own prediction (its own
+    nu and ell), over Gamma / Gamma_max: every particle out to where its bulk takes over. Sizes
+    at the catalogue's largest member (capped) and Gamma where the continuum predicts no finite
+    aggregate are left out; both are counted."""
+    x = sizes["Gamma_relative"]
     key, symbol = ("width", "W") if kind == "fiber" else ("radius", "R")
-    values = np.where(G[None, :] < sizes["Gamma_max"][:, None], sizes[key] / sizes["ell"][:, None], np.nan)
-    for row in values[:60]:
-        ax.step(G, row, where="mid", color=plotting.PHASE_COLORS[kind], lw=0.4, alpha=0.35)
+    G = sizes["Gamma_max"][:, None] * x[None, :]
     with np.errstate(all="ignore"):
-        import warnings
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            median = np.nanmedian(values, axis=0)
-    enough = np.sum(np.isfinite(values), axis=0) >= max(5, 0.2 * len(values))
-    ax.plot(G[enough], median[enough], color="k", lw=1.2, label="median")
-    if kind == "fiber":
-        ax.plot(G, continuum.optimal_width(0.5, G), color="#d3002d", lw=1.4, label="continuum")
-    else:
-        for nu, style in ((0.0, "-"), (0.5, "--")):
-            ax.plot(G, continuum.optimal_radius(nu, G), style, color="#d3002d", lw=1.2, label=rf"continuum $\nu={nu:g}$")
-    ax.set_xlim(0, 1.3)
-    ax.set_ylim(0, 6)
-    ax.set_xlabel(r"$\Gamma$")
-    ax.set_ylabel(rf"${symbol}^*/\ell$")
-    ax.legend(frameon=False, fontsize=6, loc="upper left")
+        predicted = continuum_size(kind, sizes["nu"][:, None], G) * sizes["ell"][:, None]
+        ratio = sizes[f"{key}_relative"] / predicted
+    capped = sizes[f"{key}_relative_capped"]
+    usable = np.isfinite(ratio) & (ratio > 0) & ~capped & (x[None, :] > 0) & (x[None, :] < 1)
+    ratio = np.where(usable, ratio, np.nan)
+    colour = plotting.PHASE_COLORS[kind]
+    for row in ratio[:60]:
+        ax.plot(x, row, color=colour, lw=0.4, alpha=0.3)
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        for subset, style, label in ((np.ones(len(ratio), bool), "-", "median, all"),
+                                     (sizes["ell"] >= 1.5, "--", r"median, $\ell \geq 1.5$")):
+            rows = ratio[subset]
+            enough = np.sum(np.isfinite(rows), axis=0) >= max(5, 0.2 * len(rows))
+            med = np.nanmedian(rows, axis=0)
+            ax.plot(x[enough], med[enough], style, color="k", lw=1.2, label=f"{label} ({subset.sum()})")
+            if style == "-":
+                lo, hi = np.nanpercentile(rows, 25, axis=0), np.nanpercentile(rows, 75, axis=0)
+                ax.fill_between(x[enough], lo[enough], hi[enough], color="k", alpha=0.12, lw=0, label="quartiles, all")
+    ax.axhline(1.0, color="#d3002d", lw=1.2, label="own continuum prediction")
+    ax.set_yscale("log")
+    ax.set_ylim(0.2, 5)
+    ticks = [0.25, 0.5, 1, 2, 4]
+    ax.set_yticks(ticks, [f"{t:g}" for t in ticks])
+    ax.minorticks_off()
+    ax.set_xlim(0, 1)
+    ax.set_xlabel(r"$\Gamma/\Gamma_\mathrm{max}$ (each particle's own)")
+    ax.set_ylabel(rf"${symbol}^*/{symbol}^*_\mathrm{{continuum}}(\nu, \ell)$")
+    defined = np.isfinite(predicted) & (x[None, :] > 0) & (x[None, :] < 1)
+    ax.text(0.98, 0.03, f"capped: {100 * capped[defined].mean():.0f} % of defined points\n"
+            f"no finite continuum optimum: {100 * (1 - defined[:, 1:-1].mean()):.0f} %",
+            transform=ax.transAxes, ha="right", va="bottom", fontsize=5.5)
+    ax.legend(frameon=False, fontsize=5.5, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=2)
 
 
 def main(summary_path, fits_path, size_paths, outputs):
     summary, fits = load_npz(summary_path), load_npz(fits_path)
     parts = [load_npz(p) for p in size_paths]
-    sizes = {k: np.concatenate([s[k] for s in parts]) for k in ("width", "radius", "Gamma_max", "ell")}
-    sizes["Gamma"] = parts[0]["Gamma"]
-    fig = plotting.figure(17.8, 16.0)
-    grid = fig.add_gridspec(3, 4, height_ratios=[1, 1.1, 1], hspace=0.7, wspace=0.6)
+    sizes = {k: np.concatenate([s[k] for s in parts]) for k in
+             ("width_relative", "radius_relative", "width_relative_capped", "radius_relative_capped", "Gamma_max",
+              "ell", "nu")}
+    sizes["Gamma_relative"] = parts[0]["Gamma_relative"]
+    fig = plotting.figure(17.8, 17.5)
+    grid = fig.add_gridspec(3, 4, height_ratios=[1, 1.1, 1], hspace=1.0, wspace=0.6)
     ax = fig.add_subplot(grid[0, 0])
     draw_distances(ax)
     plotting.panel_label(ax, "a")
@@ -133,10 +161,10 @@ def main(summary_path, fits_path, size_paths, outputs):
     plotting.panel_label(ax, "c")
     draw_fit_check(fig.add_subplot(grid[1, 2:4]), fits)
     ax_w, ax_r = fig.add_subplot(grid[2, 0:2]), fig.add_subplot(grid[2, 2:4])
-    draw_sizes(ax_w, sizes, "fiber")
-    draw_sizes(ax_r, sizes, "disk")
-    ax_w.set_title(f"best fibre, {len(sizes['ell'])} random particles", fontsize=7)
-    ax_r.set_title("best disk", fontsize=7)
+    draw_size_ratios(ax_w, sizes, "fiber")
+    draw_size_ratios(ax_r, sizes, "disk")
+    ax_w.set_title(f"best fibre, {len(sizes['ell'])} random particles", fontsize=7, pad=28)
+    ax_r.set_title("best disk", fontsize=7, pad=28)
     plotting.panel_label(ax_w, "d")
     plotting.save(fig, outputs)
 

@@ -1,6 +1,7 @@
 """Fig. S2: optimal fibre width W* and disk radius R* of random particles in numbers of
 particles, against Gamma / Gamma_max: without the rescaling by ell of Fig. 5d the sizes scatter
-widely at equal line tension."""
+widely at equal line tension. Sizes at the catalogue's largest member (the optimum may lie
+beyond) are drawn in grey and counted: they are the vertical bundles."""
 import numpy as np
 
 from pyfrustrate import plotting
@@ -9,13 +10,19 @@ from pyfrustrate.io import load_npz, logging_to
 
 def main(size_paths, outputs):
     parts = [load_npz(p) for p in size_paths]
-    d = {k: np.concatenate([s[k] for s in parts]) for k in ("width_relative", "radius_relative", "ell")}
+    d = {k: np.concatenate([s[k] for s in parts]) for k in
+         ("width_relative", "radius_relative", "width_relative_capped", "radius_relative_capped", "ell")}
     x = parts[0]["Gamma_relative"]
     fig = plotting.figure(17.8, 7.0)
     for col, (key, symbol, kind) in enumerate((("width_relative", "W", "fiber"), ("radius_relative", "R", "disk"))):
         ax = fig.add_subplot(1, 2, col + 1)
-        for row in d[key]:
-            ax.step(x[:-1], row[:-1], where="mid", lw=0.5, alpha=0.4, color=plotting.PHASE_COLORS[kind])
+        for row, capped in zip(d[key], d[f"{key}_capped"]):
+            free = np.where(capped, np.nan, row)
+            ax.step(x[:-1], free[:-1], where="mid", lw=0.5, alpha=0.4, color=plotting.PHASE_COLORS[kind])
+            ax.plot(x[:-1][capped[:-1]], row[:-1][capped[:-1]], ".", ms=1.5, color="0.6")
+        share = d[f"{key}_capped"][:, 1:-1].mean()
+        ax.text(0.98, 0.97, f"grey: at the catalogue's largest {'fibre' if kind == 'fiber' else 'disk'} "
+                f"({100 * share:.0f} % of points)", transform=ax.transAxes, ha="right", va="top", fontsize=6)
         ax.set_xlim(0, 1)
         ax.set_ylim(0, None)
         ax.set_xlabel(r"$\Gamma/\Gamma_\mathrm{max}$")

@@ -493,6 +493,8 @@ def aggregation_line(particle, Gamma, ell: float, nu: float, candidates=None, me
     ``phase``       index into ``PHASE_CODES`` of the lowest total energy per particle;
     ``width``       W* of the best fibre among fibres (continuum width, lattice units);
     ``radius``      R* of the best disk among disks and the single particle;
+    ``width_capped``, ``radius_capped``  whether that best fibre (disk) is the largest of its
+                    family in the catalogue: the optimum may then lie beyond it;
     ``Gamma_max``   the line tension above which the bulk wins (exact: every total energy is
                     linear in g, so it is the largest crossing of the bulk with another candidate).
 
@@ -510,6 +512,9 @@ def aggregation_line(particle, Gamma, ell: float, nu: float, candidates=None, me
     fibers = [f for f in set(energies.family.tolist()) if f.startswith("fiber")]
     best_fiber = energies.winners(g, fibers)
     best_disk = energies.winners(g, ["single", "disk"])
+    largest = {f: energies.size[energies.family == f].max() for f in set(energies.family.tolist())}
+    capped = np.array([energies.size[i] == largest[energies.family[i]] for i in range(len(energies.family))])
     return {"phase": phase_of[energies.winners(g)].astype(np.int8), "width": energies.length[best_fiber],
-            "radius": energies.length[best_disk], "Gamma_max": Gamma_max,
+            "radius": energies.length[best_disk], "width_capped": capped[best_fiber] & np.isfinite(energies.length[best_fiber]),
+            "radius_capped": capped[best_disk] & (energies.family[best_disk] == "disk"), "Gamma_max": Gamma_max,
             "converged": bool(energies.converged.all())}

@@ -291,3 +291,19 @@ def test_strip_protocol_rejects_bad_settings():
         rp.boundary_layer_length()
     with pytest.raises(ValueError, match="Ms must have shape"):
         rp.boundary_layer_lengths(np.eye(9))
+
+
+def test_aggregation_line_flags_sizes_at_the_catalogues_largest_member():
+    """A size is flagged capped exactly when the best fibre (disk) is the catalogue's widest
+    (largest) of its family: with a small catalogue the continuum optimum outgrows it as Gamma
+    rises, with a large one it does not at small Gamma."""
+    ell, nu = 2.5, 0.7
+    p = rp.RandomHexagon.from_hexagon(pyfrustrate.Hexagon.from_continuum(ell, nu, eps=1e-3))
+    G = np.array([0.05, 0.9])
+    small = ansatz.catalogue(max_radius=2, max_width=3)
+    line = rp.aggregation_line(p, G, ell, nu, candidates=small)
+    big = rp.aggregation_line(p, G, ell, nu, candidates=ansatz.catalogue(max_radius=12, max_width=20))
+    assert line["width_capped"][1] and line["radius_capped"][1]  # optimum beyond width 3, R = 2
+    assert not big["width_capped"][0] and not big["radius_capped"][0]
+    largest_disk = max(c.topology.size for c in small if c.family == "disk")
+    assert line["radius"][1] == pytest.approx(largest_disk)
