@@ -24,7 +24,7 @@ UBSAN_LIB="$(g++ -print-file-name=libubsan.so)"
 cd "$ROOT"
 if [ "$#" -eq 0 ]; then
   set -- tests/test_extremes.py tests/test_relaxation_engine.py tests/test_hexagon.py tests/test_topology.py \
-    tests/test_montecarlo.py tests/test_random_particles.py
+    tests/test_montecarlo.py tests/test_random_particles.py tests/test_triangle.py tests/test_particle_contract.py
 fi
 LD_PRELOAD="$ASAN_LIB:$UBSAN_LIB" \
 ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:strict_string_checks=1" \
