@@ -1,6 +1,8 @@
 """Fig. S3: (a) probability density of the boundary-layer length ell over all drawn matrices,
-decaying fast at large ell (hence the large sample); (b) Poisson ratios of the particles
-selected in each ell group for Fig. 6, near-uniform by construction."""
+decaying fast at large ell (hence the large sample); (b) Poisson ratios in each ell group: the
+whole drawn population (lines, density) and the particles selected for Fig. 6 (steps, density),
+near-uniform by construction where the population allows: particles with both large ell and
+small nu are scarce."""
 import numpy as np
 
 from pyfrustrate import plotting
@@ -9,7 +11,7 @@ from pyfrustrate.io import load_npz, logging_to
 
 def main(summary_path, selection_path, edges, outputs):
     s, sel = load_npz(summary_path), load_npz(selection_path)
-    fig = plotting.figure(17.8, 6.5)
+    fig = plotting.figure(17.8, 7.5)
     ax = fig.add_subplot(1, 2, 1)
     e = s["ell_edges"]
     ax.stairs(s["ell_density"], e, color="k")
@@ -26,13 +28,16 @@ def main(summary_path, selection_path, edges, outputs):
     for i in range(len(edges) - 1):
         nu = sel[f"group{i}_nu"]
         hi = "\\infty" if edges[i + 1] > 1e6 else f"{edges[i + 1]:g}"
-        ax.hist(nu, bins, histtype="step", color=colors[i % 4], lw=1.2,
-                label=rf"$\ell\in[{edges[i]:g},{hi})$: {len(nu)}")
+        ax.stairs(s[f"group{i}_nu_density"], s["nu_edges"], color=colors[i % 4], lw=0.8, alpha=0.8,
+                  label=rf"$\ell\in[{edges[i]:g},{hi})$: all ({100 * float(s[f'group{i}_fraction']):.2g} % of draws)")
+        ax.hist(nu, bins, density=True, histtype="step", color=colors[i % 4], lw=1.4, ls="--",
+                label=f"selected: {len(nu)}")
     ax.set_xlabel(r"Poisson ratio $\nu$")
-    ax.set_ylabel("particles selected")
-    ax.legend(frameon=False, fontsize=7)
+    ax.set_ylabel("probability density")
+    ax.legend(frameon=False, fontsize=6, ncol=3, loc="upper center", bbox_to_anchor=(0.4, -0.3))
     plotting.panel_label(ax, "b")
     fig.tight_layout()
+    fig.subplots_adjust(bottom=0.32)
     plotting.save(fig, outputs)
 
 

@@ -485,6 +485,22 @@ def catalogue_for(ell: float, radius_per_ell=6.0, width_per_ell=8.0, radius_limi
     return catalogue(R, W)
 
 
+def line_tension_grid(Gamma_max: float, count: int, linear_until: float = 2.0) -> np.ndarray:
+    """Line tensions of the aggregation diagrams (Fig. 6): half the points evenly on
+    ``[0, linear_until]``, where the phases change, the rest geometric up to ``Gamma_max``, where
+    the bulk of small-ell particles takes over (their Gamma_max reaches tens: Gamma is measured
+    in units of the particle's own ell)."""
+    if not (Gamma_max > 0 and np.isfinite(Gamma_max)):
+        raise ValueError(f"Gamma_max must be positive and finite, got {Gamma_max!r}")
+    if int(count) != count or count < 4:
+        raise ValueError(f"count must be an integer >= 4, got {count!r}")
+    if Gamma_max <= linear_until:
+        return np.linspace(0.0, Gamma_max, int(count))
+    n_linear = int(count) // 2
+    tail = np.geomspace(linear_until, Gamma_max, int(count) - n_linear + 1)[1:]
+    return np.concatenate([np.linspace(0.0, linear_until, n_linear), tail])
+
+
 def aggregation_line(particle, Gamma, ell: float, nu: float, candidates=None, method: str = "linear",
                      relative: bool = False) -> dict:
     """One particle's line of an aggregation diagram (main text Fig. 6) and its optimal sizes

@@ -96,7 +96,6 @@ rule figS2_random_sizes:
 rule fig6_random_diagrams:
     input:
         groups=[random_diagram_files(f"group{i}") for i in range(len(RANDOM["group_counts"]))],
-        continuum=rules.continuum_phase_diagram.output,
     output:
         pdf=f"{FIGURES}/fig6_random_diagrams.pdf",
         png=f"{FIGURES}/fig6_random_diagrams.png",

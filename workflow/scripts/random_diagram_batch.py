@@ -14,7 +14,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     selection = load_npz(snakemake.input[0])  # noqa: F821
     part = slice(batch * s["diagram_batch"], (batch + 1) * s["diagram_batch"])
     index, ell, nu = (selection[f"{name}_{k}"][part].astype(float) for k in ("index", "ell", "nu"))
-    Gamma = np.linspace(0, s["Gamma_max"], s["Gamma_count"])
+    Gamma = rp.line_tension_grid(s["Gamma_max"], s["Gamma_count"])
     n, m = len(index), len(Gamma)
     phase = np.zeros((n, m), np.int8)
     width, radius = np.zeros((n, m), np.float32), np.zeros((n, m), np.float32)

@@ -22,8 +22,12 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     summary = {f"plotted_{k}": v[plotted] for k, v in sample.items()}
     summary.update(ell_edges=edges, ell_density=hist, ell_beyond=above, draws=len(finite))
     groups = np.asarray(s["ell_groups"], float)
+    summary["nu_edges"] = np.linspace(-1, 1, 41)
     for i in range(len(groups) - 1):
-        summary[f"group{i}_fraction"] = float(np.mean((sample["ell"] >= groups[i]) & (sample["ell"] < groups[i + 1])))
+        members = (sample["ell"] >= groups[i]) & (sample["ell"] < groups[i + 1])
+        summary[f"group{i}_fraction"] = float(np.mean(members))
+        # Each group's Poisson ratios before selection (Fig. S3b), as a density.
+        summary[f"group{i}_nu_density"] = np.histogram(sample["nu"][members], summary["nu_edges"], density=True)[0]
         print(f"ell in [{groups[i]:g}, {groups[i + 1]:g}): fraction {summary[f'group{i}_fraction']:.4f}")
     save_npz(snakemake.output.summary, **summary)  # noqa: F821
 
