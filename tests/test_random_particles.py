@@ -307,3 +307,17 @@ def test_aggregation_line_flags_sizes_at_the_catalogues_largest_member():
     assert not big["width_capped"][0] and not big["radius_capped"][0]
     largest_disk = max(c.topology.size for c in small if c.family == "disk")
     assert line["radius"][1] == pytest.approx(largest_disk)
+
+
+def test_line_tension_grid_is_even_then_geometric():
+    G = rp.line_tension_grid(50.0, 321)
+    assert G[0] == 0.0 and G[-1] == pytest.approx(50.0) and len(G) == 321
+    assert np.all(np.diff(G) > 0)
+    even = G[G <= 2.0]
+    assert np.allclose(np.diff(even), even[1] - even[0])
+    tail = G[G >= 2.0]
+    assert np.allclose(tail[1:] / tail[:-1], tail[1] / tail[0])
+    assert np.array_equal(rp.line_tension_grid(1.6, 161), np.linspace(0, 1.6, 161))
+    for bad in (dict(Gamma_max=0.0, count=10), dict(Gamma_max=5.0, count=3)):
+        with pytest.raises(ValueError, match="Gamma_max|count"):
+            rp.line_tension_grid(**bad)
