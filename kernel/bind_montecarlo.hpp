@@ -30,7 +30,6 @@ inline pybind11::dict counters_dict(const MonteCarloCounters& c) {
     return d;
 }
 
-
 template <class Model>
 void export_montecarlo(pybind11::module_& m, const char* class_name) {
     namespace py = pybind11;
