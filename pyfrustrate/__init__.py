@@ -3,7 +3,8 @@
 Reproduces H. Le Roy, M. M. Terzi and M. Lenz, "Collective deformation modes promote fibrous
 self-assembly in deformable particles", Phys. Rev. X 15, 011022 (2025).
 
-Main entry points: ``Hexagon`` (the particle), ``topology`` (aggregates), ``relax`` (minimum
+Main entry points: ``Hexagon`` (the particle), ``Triangle`` (the triangular particle of the
+supplement), ``topology`` (aggregates, on either tiling), ``relax`` (minimum
 deformation energy at fixed topology), ``continuum`` (the analytic theory), ``chain`` (the 1D
 toy model), ``anneal`` (Monte Carlo of topologies), ``random_particles`` and ``RandomHexagon``
 (random-elasticity particles).
