@@ -23,10 +23,11 @@ The kernel (``kernel/montecarlo.hpp``) recomputes only the clusters a move leave
 caches relaxed energies by shape up to translations and the symmetries the particle shares with
 its tiling (hexagons: D3, the colour-preserving rotations by 120 degrees and mirrors, not the
 60-degree rotations, which swap the yellow and red corners; random hexagons: C3, their ``M``
-having no mirror symmetry; triangles: all twelve operations of the lattice). Each shape's energy is computed from its canonical representative,
-so results do not depend on the cache. Clusters that wrap around the box are relaxed as periodic
-aggregates (a straight fibre if they wrap in one direction, a bulk cell if in two) with free
-period vectors: the box stands for an infinite system.
+having no mirror symmetry; triangles: all twelve operations of the lattice). Each shape's energy
+is computed from its canonical representative, so results do not depend on the cache. Clusters
+that wrap around the box are relaxed as periodic aggregates (a straight fibre if they wrap in one
+direction, a bulk cell if in two) with free period vectors: the box stands for an infinite
+system.
 
 Units: energies (``g``, temperatures, traces) are those of the particle's springs (``k``, lengths
 in lattice spacings). ``continuum.particle_parameters(ell, nu, Gamma, eps=...)`` gives the ``g``

@@ -531,6 +531,7 @@ def aggregation_line(particle, Gamma, ell: float, nu: float, candidates=None, me
     largest = {f: energies.size[energies.family == f].max() for f in set(energies.family.tolist())}
     capped = np.array([energies.size[i] == largest[energies.family[i]] for i in range(len(energies.family))])
     return {"phase": phase_of[energies.winners(g)].astype(np.int8), "width": energies.length[best_fiber],
-            "radius": energies.length[best_disk], "width_capped": capped[best_fiber] & np.isfinite(energies.length[best_fiber]),
-            "radius_capped": capped[best_disk] & (energies.family[best_disk] == "disk"), "Gamma_max": Gamma_max,
-            "converged": bool(energies.converged.all())}
+            "radius": energies.length[best_disk],
+            "width_capped": capped[best_fiber] & np.isfinite(energies.length[best_fiber]),
+            "radius_capped": capped[best_disk] & (energies.family[best_disk] == "disk"),
+            "Gamma_max": Gamma_max, "converged": bool(energies.converged.all())}
