@@ -5,7 +5,7 @@
 // energy from its six corners (slots as in topology.hpp: even slots red, odd slots yellow).
 #pragma once
 
-#include "elements.hpp"
+#include "two_triangles.hpp"
 #include "tiling.hpp"
 
 #include <algorithm>
@@ -26,28 +26,17 @@ struct HexagonModel {
 
     double k = 1.0, kc = 0.01, k_area = 0.0, eps = 0.01;
 
-    HexagonModel(double k_, double kc_, double k_area_, double eps_) : k(k_), kc(kc_), k_area(k_area_), eps(eps_) {
-        if (!(k > 0) || !std::isfinite(k)) throw std::invalid_argument("k must be positive and finite");
-        if (!(kc >= 0) || !std::isfinite(kc)) throw std::invalid_argument("kc must be non-negative and finite");
-        // The sheet's Poisson ratio is -1 at k_area = -sqrt(3) k: below it the sheet buckles.
-        if (!(k_area > -std::sqrt(3.0) * k) || !std::isfinite(k_area))
-            throw std::invalid_argument("k_area must be finite and exceed -sqrt(3) k (unstable sheet otherwise), got " +
-                                        std::to_string(k_area));
-        if (!(eps >= 0 && eps < 1)) throw std::invalid_argument("eps must lie in [0, 1)");
+    HexagonModel(double k_, double kc_, double k_area_, double eps_)
+        : k(k_), kc(kc_), k_area(k_area_), eps(eps_), areas_(eps_) {
+        check_two_triangle_parameters(k, kc, k_area, eps);
         // Rest lengths and areas as the reference (eps = 0) value plus what the mismatch adds,
         // each addition formed without cancellation (elements.hpp). Triangle sides 1 +- eps; the
         // hexagon side, corners at radii (1 +- eps)/sqrt3 60 degrees apart, is
         // sqrt((1 + 3 eps^2) / 3) = 1/sqrt3 + eps^2 / (side + 1/sqrt3); areas sqrt3/4 (1 +- eps)^2.
         side_nominal_ = 1 / std::sqrt(3.0);
         side_delta_ = side_delta(eps);
-        area_nominal_ = std::sqrt(3.0) / 4.0;
-        yellow_area_delta_ = area_nominal_ * eps * (2 + eps);
-        red_area_delta_ = area_nominal_ * eps * (eps - 2);
         rest_ = rest_corners();
-        for (int i = 0; i < kSprings; ++i) {
-            edge0_[i] = rest_.segment<2>(2 * kTo[i]) - rest_.segment<2>(2 * kFrom[i]);
-            length0_[i] = edge0_[i].norm();
-        }
+        reference_edges<6>(rest_, kFrom, kTo, edge0_, length0_);
     }
 
     // The twelve springs in the order terms() sums them: yellow and red triangle sides
@@ -81,10 +70,7 @@ struct HexagonModel {
     // matrix of the linearised (eps -> 0) theory.
     HexagonModel without_mismatch() const { return HexagonModel(k, kc, k_area, 0.0); }
 
-    struct Terms {
-        double triangles = 0, connecting = 0, area = 0;
-        double total() const { return triangles + connecting + area; }
-    };
+    using Terms = TwoTriangleTerms;
 
     // The energy by terms of the particle whose corners are displaced by disp from rest_corners()
     // (its own frame), with gradient and Hessian on request (elements.hpp).
@@ -97,8 +83,8 @@ struct HexagonModel {
             t.connecting += spring<6>(disp, kFrom[i], kTo[i], edge0_[i], length0_[i], kc, side_nominal_, side_delta_,
                                       grad, hess);
         if (k_area != 0) {
-            t.area += triangle_area<6>(rest_, disp, 1, 3, 5, k_area, area_nominal_, yellow_area_delta_, grad, hess);
-            t.area += triangle_area<6>(rest_, disp, 0, 2, 4, k_area, area_nominal_, red_area_delta_, grad, hess);
+            t.area += triangle_area<6>(rest_, disp, 1, 3, 5, k_area, areas_.nominal, areas_.yellow_delta, grad, hess);
+            t.area += triangle_area<6>(rest_, disp, 0, 2, 4, k_area, areas_.nominal, areas_.red_delta, grad, hess);
         }
         return t;
     }
@@ -148,14 +134,14 @@ struct HexagonModel {
         }
         if (k_area != 0) {
             const int corners[2][3] = {{1, 3, 5}, {0, 2, 4}};
-            const double area_delta[2] = {yellow_area_delta_, red_area_delta_};
+            const double area_delta[2] = {areas_.yellow_delta, areas_.red_delta};
             const Corners& ref = rest_;
             for (int t = 0; t < 2; ++t) {
                 const int* idx = corners[t];
-                const double scale = k_area / (area_nominal_ + area_delta[t]);
+                const double scale = k_area / (areas_.nominal + area_delta[t]);
                 const double ab0x = ref[2 * idx[1]] - ref[2 * idx[0]], ab0y = ref[2 * idx[1] + 1] - ref[2 * idx[0] + 1];
                 const double ac0x = ref[2 * idx[2]] - ref[2 * idx[0]], ac0y = ref[2 * idx[2] + 1] - ref[2 * idx[0] + 1];
-                const double offset = 0.5 * (ab0x * ac0y - ab0y * ac0x) - area_nominal_;
+                const double offset = 0.5 * (ab0x * ac0y - ab0y * ac0x) - areas_.nominal;
                 for (int l = 0; l < kLanes; ++l) {
                     const double dabx = x[2 * idx[1]][l] - x[2 * idx[0]][l], daby = x[2 * idx[1] + 1][l] - x[2 * idx[0] + 1][l];
                     const double dacx = x[2 * idx[2]][l] - x[2 * idx[0]][l], dacy = x[2 * idx[2] + 1][l] - x[2 * idx[0] + 1][l];
@@ -180,7 +166,8 @@ struct HexagonModel {
    private:
     // Rest lengths and areas as nominal (eps = 0) value + delta, and the reference shape's
     // corners, spring edges and lengths: computed once per model.
-    double side_nominal_ = 0, side_delta_ = 0, area_nominal_ = 0, yellow_area_delta_ = 0, red_area_delta_ = 0;
+    double side_nominal_ = 0, side_delta_ = 0;
+    TriangleRestAreas areas_;
     Corners rest_ = Corners::Zero();
     Eigen::Vector2d edge0_[kSprings];
     double length0_[kSprings] = {};

@@ -14,7 +14,7 @@
 // triangle, up, centred on its centroid.
 #pragma once
 
-#include "elements.hpp"
+#include "two_triangles.hpp"
 #include "tiling.hpp"
 
 #include <algorithm>
@@ -33,25 +33,14 @@ struct TriangleModel {
 
     double k = 1.0, kc = 0.01, k_area = 0.0, eps = 0.01;
 
-    TriangleModel(double k_, double kc_, double k_area_, double eps_) : k(k_), kc(kc_), k_area(k_area_), eps(eps_) {
-        if (!(k > 0) || !std::isfinite(k)) throw std::invalid_argument("k must be positive and finite");
-        if (!(kc >= 0) || !std::isfinite(kc)) throw std::invalid_argument("kc must be non-negative and finite");
-        // As for the hexagon, the sheet's Poisson ratio reaches -1 at k_area = -sqrt(3) k.
-        if (!(k_area > -std::sqrt(3.0) * k) || !std::isfinite(k_area))
-            throw std::invalid_argument("k_area must be finite and exceed -sqrt(3) k (unstable sheet otherwise), got " +
-                                        std::to_string(k_area));
-        if (!(eps >= 0 && eps < 1)) throw std::invalid_argument("eps must lie in [0, 1)");
+    TriangleModel(double k_, double kc_, double k_area_, double eps_)
+        : k(k_), kc(kc_), k_area(k_area_), eps(eps_), areas_(eps_) {
+        check_two_triangle_parameters(k, kc, k_area, eps);
         // Coupling rest length sqrt(1 + eps^2/3) = 1 + (eps^2/3) / (sqrt(1 + eps^2/3) + 1), formed
         // without cancellation; areas sqrt3/4 (1 +- eps)^2.
         coupling_delta_ = eps * eps / 3.0 / (std::sqrt(1 + eps * eps / 3.0) + 1);
-        area_nominal_ = std::sqrt(3.0) / 4.0;
-        yellow_area_delta_ = area_nominal_ * eps * (2 + eps);
-        red_area_delta_ = area_nominal_ * eps * (eps - 2);
         rest_ = rest_corners();
-        for (int i = 0; i < kSprings; ++i) {
-            edge0_[i] = rest_.segment<2>(2 * kTo[i]) - rest_.segment<2>(2 * kFrom[i]);
-            length0_[i] = edge0_[i].norm();
-        }
+        reference_edges<6>(rest_, kFrom, kTo, edge0_, length0_);
     }
 
     // Springs: yellow sides, red sides, then the couplings Y_a-R_b, Y_b-R_a of each edge.
@@ -74,10 +63,7 @@ struct TriangleModel {
     double step_scale() const { return std::max(eps, 1e-3); }
     TriangleModel without_mismatch() const { return TriangleModel(k, kc, k_area, 0.0); }
 
-    struct Terms {
-        double triangles = 0, connecting = 0, area = 0;
-        double total() const { return triangles + connecting + area; }
-    };
+    using Terms = TwoTriangleTerms;
 
     Terms terms_of_displacement(const Corners& disp, Corners* grad = nullptr, Hessian* hess = nullptr) const {
         Terms t;
@@ -86,8 +72,8 @@ struct TriangleModel {
         for (int i = 6; i < kSprings; ++i)
             t.connecting += spring<6>(disp, kFrom[i], kTo[i], edge0_[i], length0_[i], kc, 1.0, coupling_delta_, grad, hess);
         if (k_area != 0) {
-            t.area += triangle_area<6>(rest_, disp, 0, 1, 2, k_area, area_nominal_, yellow_area_delta_, grad, hess);
-            t.area += triangle_area<6>(rest_, disp, 3, 4, 5, k_area, area_nominal_, red_area_delta_, grad, hess);
+            t.area += triangle_area<6>(rest_, disp, 0, 1, 2, k_area, areas_.nominal, areas_.yellow_delta, grad, hess);
+            t.area += triangle_area<6>(rest_, disp, 3, 4, 5, k_area, areas_.nominal, areas_.red_delta, grad, hess);
         }
         return t;
     }
@@ -100,7 +86,8 @@ struct TriangleModel {
     double energy(const Corners& x, Corners* grad, Hessian* hess = nullptr) const { return terms(x, grad, hess).total(); }
 
    private:
-    double coupling_delta_ = 0, area_nominal_ = 0, yellow_area_delta_ = 0, red_area_delta_ = 0;
+    double coupling_delta_ = 0;
+    TriangleRestAreas areas_;
     Corners rest_ = Corners::Zero();
     Eigen::Vector2d edge0_[kSprings];
     double length0_[kSprings] = {};
