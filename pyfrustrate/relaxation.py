@@ -240,6 +240,21 @@ def periodic_images(topology: Topology, state, corners, images=range(-1, 2)) -> 
                            for a, b in shifts])
 
 
+def relaxed_drawing(particle, topology: Topology, images=None, **relax_options):
+    """What a figure draws of a relaxed aggregate: ``(corners, energies, relaxation)``, the
+    corners (``particle_corners``) and each particle's energy (``particle_energies``), repeated
+    over the periods ``images`` of a periodic cell (``periodic_images``; None: the cell alone).
+    ``relax_options`` go to ``relax``."""
+    r = relax(particle, topology, **relax_options)
+    corners = particle_corners(particle, topology, r.state)
+    energies = particle_energies(particle, topology, r.state)
+    if images is not None and topology.periodicity != "none":
+        count = len(images) if topology.periodicity == "fiber" else len(images) ** 2
+        corners = periodic_images(topology, r.state, corners, images=images)
+        energies = np.tile(energies, count)
+    return corners, energies, r
+
+
 def fiber_curvature(topology: Topology, state) -> float:
     """Curvature (1/radius, lattice units) of a relaxed curved fibre: the angle between
     successive images over the period length. Zero for straight fibres."""

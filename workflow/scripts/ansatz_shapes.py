@@ -4,7 +4,7 @@ import numpy as np
 
 from pyfrustrate import Hexagon, relax, topology
 from pyfrustrate.io import logging_to, save_npz
-from pyfrustrate.relaxation import particle_corners, particle_energies, periodic_images
+from pyfrustrate.relaxation import relaxed_drawing
 
 ELL, NU, EPS = 2.5, 0.5, 0.04
 with logging_to(snakemake.log[0]):  # noqa: F821
@@ -20,14 +20,8 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     }
     out = {}
     for name, (topo, images) in items.items():
-        r = relax(particle, topo, x0="linear")
-        corners = particle_corners(particle, topo, r.state)
-        energy = particle_energies(particle, topo, r.state) / bulk_pp
-        if images is not None:
-            count = len(images) if topo.periodicity == "fiber" else len(images) ** 2
-            corners = periodic_images(topo, r.state, corners, images=images)
-            energy = np.tile(energy, count)
-        out[f"{name}_corners"], out[f"{name}_energy"] = corners, energy
+        corners, energy, r = relaxed_drawing(particle, topo, images, x0="linear")
+        out[f"{name}_corners"], out[f"{name}_energy"] = corners, energy / bulk_pp
         print(f"{name}: E/N = {r.energy_per_particle / bulk_pp:.4f} bulk, bonds/N = {topo.n_bonds / topo.n_particles:.3f}, "
               f"converged={r.converged}")
     save_npz(snakemake.output[0], ell=ELL, nu=NU, eps=EPS, names=np.array(list(items)), **out)  # noqa: F821

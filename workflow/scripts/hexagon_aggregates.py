@@ -1,11 +1,10 @@
 """The discrete hexagon model (Fig. 2): a particle at rest, a small relaxed aggregate with an
 exaggerated mismatch (shapes), and large relaxed aggregates (a disk and a fibre, several ell
 across) with the deformation energy of each particle in units of the bulk value."""
-import numpy as np
 
 from pyfrustrate import Hexagon, relax, topology
 from pyfrustrate.io import logging_to, save_npz
-from pyfrustrate.relaxation import particle_corners, particle_energies, periodic_images
+from pyfrustrate.relaxation import particle_corners, relaxed_drawing
 
 s = snakemake.params.settings  # noqa: F821
 with logging_to(snakemake.log[0]):  # noqa: F821
@@ -22,16 +21,11 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     results = {}
     for name, topo in [("disk", topology.disk(s["disk_radius"])),
                        ("fiber", topology.fiber(s["fiber_width"], s["fiber_cut"]))]:
-        r = relax(particle, topo, x0="linear")
+        corners, energies, r = relaxed_drawing(particle, topo, range(-6, 7), x0="linear")
         print(f"{topo.label}: E/N = {r.energy_per_particle / bulk_value:.4f} bulk, converged={r.converged}, "
               f"{r.iterations} evaluations")
-        corners = particle_corners(particle, topo, r.state)
-        energies = particle_energies(particle, topo, r.state) / bulk_value
-        if topo.periodicity == "fiber":
-            corners = periodic_images(topo, r.state, corners, images=range(-6, 7))
-            energies = np.tile(energies, 13)
         results[f"{name}_corners"] = corners
-        results[f"{name}_energy"] = energies
+        results[f"{name}_energy"] = energies / bulk_value
         results[f"{name}_mean"] = r.energy_per_particle / bulk_value
     save_npz(snakemake.output[0], rest_corners=rest, small_corners=small_corners, ell=s["ell"], nu=s["nu"],  # noqa: F821
              eps=s["eps"], drawing_eps=s["drawing_eps"], drawing_ell=s["drawing_ell"], **results)

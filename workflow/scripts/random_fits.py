@@ -5,7 +5,7 @@ from tqdm.auto import tqdm
 
 from pyfrustrate import random_particles as rp
 from pyfrustrate.io import load_npz, logging_to, save_npz
-from pyfrustrate.relaxation import particle_corners, particle_energies, periodic_images, relax
+from pyfrustrate.relaxation import relaxed_drawing
 from pyfrustrate.topology import fiber
 
 s = snakemake.params.settings  # noqa: F821
@@ -28,10 +28,9 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     width = 80
     distance, excess = rp.edge_energy_profile(particle, width)
     top = fiber(width, 0, curved=False)
-    r = relax(particle, top, method="linear")
     periods = range(-12, 13)  # enough images of the one-column cell to draw a patch of the strip
-    corners = periodic_images(top, r.state, particle_corners(particle, top, r.state), periods)
-    energy = np.tile(particle_energies(particle, top, r.state) / particle.bulk_energy_per_particle, len(periods))
+    corners, energy, _ = relaxed_drawing(particle, top, periods, method="linear")
+    energy = energy / particle.bulk_energy_per_particle
     save_npz(snakemake.output[0], index=index, fitted=fitted, exact=exact,  # noqa: F821
              example_index=example, example_ell=particle.boundary_layer_length,
              example_fitted=rp.fitted_boundary_layer_length(particle), example_distance=distance,

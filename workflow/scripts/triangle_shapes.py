@@ -4,7 +4,7 @@ import numpy as np
 
 from pyfrustrate import Triangle, relax, topology
 from pyfrustrate.io import logging_to, save_npz
-from pyfrustrate.relaxation import particle_corners, particle_energies, periodic_images
+from pyfrustrate.relaxation import relaxed_drawing
 
 p = snakemake.params  # noqa: F821
 TILING = "triangle"
@@ -25,14 +25,8 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     }
     out = {}
     for name, (topo, images) in items.items():
-        r = relax(particle, topo)
-        corners = particle_corners(particle, topo, r.state)
-        energy = particle_energies(particle, topo, r.state) / bulk_pp
-        if images is not None:
-            count = len(images) if topo.periodicity == "fiber" else len(images) ** 2
-            corners = periodic_images(topo, r.state, corners, images=images)
-            energy = np.tile(energy, count)
-        out[f"{name}_corners"], out[f"{name}_energy"] = corners, energy
+        corners, energy, r = relaxed_drawing(particle, topo, images)
+        out[f"{name}_corners"], out[f"{name}_energy"] = corners, energy / bulk_pp
         out[f"{name}_per_particle"] = r.energy_per_particle / bulk_pp
         print(f"{name}: E/N = {r.energy_per_particle / bulk_pp:.4f} bulk, bonds/N = {topo.n_bonds / topo.n_particles:.3f}, "
               f"converged={r.converged}")
