@@ -1,7 +1,9 @@
 """Fig. 3a: continuum phase diagram in the (Gamma, nu) plane. Regions: disk (red), fibre (blue),
 bulk (purple); shading and contours give the optimal fibre width W*/ell and disk radius R*/ell.
 Fibre widths diverge at the fibre-bulk boundary Gamma = 1; the disk radius jumps at the
-disk-bulk boundary; the three phases meet at (Gamma, nu) = (1, 1/2)."""
+disk-bulk boundary; the three phases meet at (Gamma, nu) = (1, 1/2). Each line is drawn only
+where it is a phase boundary (plotting.continuum_boundaries): Gamma = 1 from nu = 1 down to the
+triple point, the disk-bulk line below it."""
 import numpy as np
 from matplotlib.colors import LinearSegmentedColormap, LogNorm
 
@@ -17,7 +19,7 @@ def main(data_path, outputs):
     d = load_npz(data_path)
     nu, G, phase = d["nu"], d["Gamma"], d["phase"]
     fig = plotting.figure(12.0, 9.0)
-    ax = fig.add_axes([0.1, 0.12, 0.62, 0.8])
+    ax = fig.add_axes([0.1, 0.12, 0.6, 0.8])
     extent = (G[0], G[-1], nu[0], nu[-1])
     norm = LogNorm(0.3, 30)
     images = {}
@@ -35,15 +37,12 @@ def main(data_path, outputs):
         cs = ax.contour(G, nu, field, levels=levels, colors=color, linewidths=0.5)
         ax.clabel(cs, fontsize=6, fmt="%g")
 
-    line_nu = d["line_nu"]
-    ax.plot(d["fiber_bulk"], line_nu, "k-", lw=1.0)
-    ax.plot(d["disk_bulk"], line_nu, "k-", lw=1.0)
-    ax.plot(d["disk_fiber"], line_nu, "k-", lw=1.0)
-    ax.plot(d["disk_fiber_upper"], line_nu, "k-", lw=1.0)
-    ax.plot([1.0], [0.5], "o", ms=4, mfc="w", mec="k", zorder=5)
-    ax.annotate(r"triple point $(1, \frac{1}{2})$", (1.0, 0.5), xytext=(1.08, 0.38), fontsize=7,
+    boundaries = plotting.draw_continuum_boundaries(ax, d)
+    triple = plotting.continuum_triple_point(boundaries, d["line_nu"])
+    ax.plot(*triple, "o", ms=4, mfc="w", mec="k", zorder=5)
+    ax.annotate(rf"triple point $({triple[0]:.3g}, {triple[1]:.3g})$", triple, xytext=(1.08, 0.38), fontsize=7,
                 arrowprops=dict(arrowstyle="-", lw=0.5))
-    for text, xy, color in (("fiber", (0.35, 0.85), "k"), ("disk", (0.35, 0.15), "k"), ("bulk", (1.3, 0.6), "w")):
+    for text, xy, color in (("fiber", (0.6, 0.88), "k"), ("disk", (0.35, 0.15), "k"), ("bulk", (1.3, 0.6), "w")):
         ax.text(*xy, text, color=color, fontsize=10, ha="center", fontweight="bold")
     ax.set_xlim(G[0], G[-1])
     ax.set_ylim(0, 1)
@@ -51,9 +50,7 @@ def main(data_path, outputs):
     ax.set_ylabel(r"Poisson ratio $\nu$")
     ax.spines[["top", "right"]].set_visible(True)
 
-    for i, (name, label) in enumerate((("fiber", r"$W^*/\ell$"), ("disk", r"$R^*/\ell$"))):
-        cax = fig.add_axes([0.78 + 0.1 * i, 0.12, 0.025, 0.8])
-        fig.colorbar(images[name], cax=cax, label=label)
+    plotting.size_colorbars(fig, images, left=0.74, bottom=0.12, height=0.8)
     plotting.save(fig, outputs)
 
 

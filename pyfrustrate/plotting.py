@@ -8,6 +8,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 
+from . import continuum as continuum_theory  # noqa: E402
 from .io import atomic_path  # noqa: E402
 
 # Fig. 3 colour code: black bulk with holes, red disk, blue fibre, purple bulk.
@@ -86,10 +87,80 @@ def shaded_colormap(color):
     return LinearSegmentedColormap.from_list("shade", ["#ffffff", color])
 
 
-def draw_ansatz_diagram(fig, ax, diagram: dict, continuum: dict, colorbar_axes=None):
+# The two phases each continuum line of ``continuum.critical_line_tensions`` separates.
+CONTINUUM_LINE_PHASES = {"fiber_bulk": {"fiber", "bulk"}, "disk_bulk": {"disk", "bulk"},
+                         "disk_fiber": {"disk", "fiber"}, "disk_fiber_upper": {"disk", "fiber"}}
+SIZE_LABELS = {"fiber": r"$W^*/\ell$", "disk": r"$R^*/\ell$"}
+
+
+def continuum_boundaries(lines: dict, flank: float = 1e-6) -> dict:
+    """The continuum lines of Fig. 3a (``lines``: ``line_nu`` and the Gamma of each line, as in
+    the continuum phase-diagram file) kept only where they are phase boundaries, nan elsewhere.
+
+    ``critical_line_tensions`` gives each line wherever it is defined: ``fiber_bulk = 1`` at every
+    nu, though below the triple point disks win on both sides of it, and ``disk_bulk = 1`` above,
+    where fibres border the bulk. A point is kept where ``continuum.phase`` just left and right of
+    it gives the two phases the line is named for; its neighbours are kept too, so that each
+    drawn line runs to the last grid point before it stops being a boundary (the triple point,
+    where the disk-bulk line reaches Gamma = 1)."""
+    nu = np.asarray(lines["line_nu"], float)
+    kept = {}
+    for key, pair in CONTINUUM_LINE_PHASES.items():
+        G = np.asarray(lines[key], float)
+        defined = np.isfinite(G)
+        boundary = np.zeros(G.shape, bool)
+        if defined.any():
+            left = continuum_theory.phase(nu[defined], np.maximum(G[defined] - flank, 0.0))
+            right = continuum_theory.phase(nu[defined], G[defined] + flank)
+            boundary[defined] = [{a, b} == pair for a, b in zip(np.atleast_1d(left), np.atleast_1d(right))]
+        near = boundary.copy()
+        near[1:] |= boundary[:-1]
+        near[:-1] |= boundary[1:]
+        kept[key] = np.where(near & defined, G, np.nan)
+    return kept
+
+
+def continuum_triple_point(boundaries: dict, line_nu) -> tuple[float, float]:
+    """(Gamma, nu) where the disk-bulk boundary ends on the fibre-bulk one: the triple point."""
+    line_nu = np.asarray(line_nu, float)
+    top = np.nanargmax(np.where(np.isfinite(boundaries["disk_bulk"]), line_nu, np.nan))
+    return float(boundaries["disk_bulk"][top]), float(line_nu[top])
+
+
+def draw_continuum_boundaries(ax, lines: dict, dashed: bool = False) -> dict:
+    """The continuum phase boundaries (``continuum_boundaries``) on ``ax``: solid black, or
+    dashed black on white (over the numerical diagrams). Returns the kept lines."""
+    kept = continuum_boundaries(lines)
+    for G in kept.values():
+        if dashed:
+            ax.plot(G, lines["line_nu"], "--", color="w", lw=1.6)
+            ax.plot(G, lines["line_nu"], "--", color="k", lw=0.8)
+        else:
+            ax.plot(G, lines["line_nu"], "k-", lw=1.0)
+    return kept
+
+
+def size_colorbars(fig, mappables: dict, left: float, bottom: float, height: float,
+                   width: float = 0.022, step: float = 0.11, labelsize: float = 8) -> list:
+    """Colour bars of the fibre width and disk radius, side by side from ``left`` (figure
+    fraction), ``step`` apart: far enough that the first bar's label (on its right) clears the
+    second bar's ticks."""
+    bars = []
+    for i, name in enumerate(("fiber", "disk")):
+        cax = fig.add_axes([left + i * step, bottom, width, height])
+        bar = fig.colorbar(mappables[name], cax=cax)
+        bar.set_label(SIZE_LABELS[name], fontsize=labelsize, labelpad=2)
+        cax.tick_params(labelsize=labelsize - 1)
+        bars.append(bar)
+    return bars
+
+
+def draw_ansatz_diagram(fig, ax, diagram: dict, continuum: dict):
     """Numerical phase diagram (Figs. 3b, S1): cells coloured by the winning aggregate (black bulk
-    with holes, red disk, blue fibre, purple bulk), disks and fibres shaded by R/ell and W/ell,
-    with the continuum boundaries of Fig. 3a as dashed lines."""
+    with holes, red disk, blue fibre, purple bulk), disks and fibres shaded by the winner's
+    W*/ell and R*/ell, with the continuum boundaries of Fig. 3a as dashed lines (only where they
+    are boundaries: ``continuum_boundaries``). Returns the fibre and disk meshes, for
+    ``size_colorbars``."""
     from matplotlib.colors import LogNorm
     from matplotlib.patches import Patch
 
@@ -109,10 +180,7 @@ def draw_ansatz_diagram(fig, ax, diagram: dict, continuum: dict, colorbar_axes=N
     for name in ("bulk", "bulk_with_holes", "gas"):
         field = np.ma.masked_where(phase != name, np.ones(phase.shape))
         ax.pcolormesh(G_edges, nu_edges, field, cmap=shaded_colormap(PHASE_COLORS[name]), vmin=0, vmax=1.05)
-    line_nu = continuum["line_nu"]
-    for key in ("fiber_bulk", "disk_bulk", "disk_fiber", "disk_fiber_upper"):
-        ax.plot(continuum[key], line_nu, "--", color="w", lw=1.6)
-        ax.plot(continuum[key], line_nu, "--", color="k", lw=0.8)
+    draw_continuum_boundaries(ax, continuum, dashed=True)
     ax.set_xlim(G_edges[0], G_edges[-1])
     ax.set_ylim(0, 1)
     ax.set_xlabel(r"line tension $\Gamma$")
@@ -123,7 +191,4 @@ def draw_ansatz_diagram(fig, ax, diagram: dict, continuum: dict, colorbar_axes=N
     handles = [Patch(color=PHASE_COLORS[p], label=label) for p, label in shown]
     handles.append(plt.Line2D([], [], color="k", ls="--", lw=0.8, label=r"continuum ($\ell\to\infty$)"))
     ax.legend(handles=handles, loc="lower center", bbox_to_anchor=(0.5, 1.01), ncol=3, fontsize=7, frameon=False)
-    if colorbar_axes is not None:
-        fig.colorbar(meshes["fiber"], cax=colorbar_axes[0], label=r"$W/\ell$")
-        fig.colorbar(meshes["disk"], cax=colorbar_axes[1], label=r"$R/\ell$")
     return meshes
