@@ -141,15 +141,19 @@ def draw_continuum_boundaries(ax, lines: dict, dashed: bool = False) -> dict:
 
 
 def size_colorbars(fig, mappables: dict, left: float, bottom: float, height: float,
-                   width: float = 0.022, step: float = 0.11, labelsize: float = 8) -> list:
+                   width: float = 0.022, step: float = 0.11, labelsize: float = 8,
+                   label_on_top: bool = False) -> list:
     """Colour bars of the fibre width and disk radius, side by side from ``left`` (figure
-    fraction), ``step`` apart: far enough that the first bar's label (on its right) clears the
-    second bar's ticks."""
+    fraction), ``step`` apart: far enough that the first bar's label (on its right, or above it
+    with ``label_on_top``, which needs less room) clears the second bar's ticks."""
     bars = []
     for i, name in enumerate(("fiber", "disk")):
         cax = fig.add_axes([left + i * step, bottom, width, height])
         bar = fig.colorbar(mappables[name], cax=cax)
-        bar.set_label(SIZE_LABELS[name], fontsize=labelsize, labelpad=2)
+        if label_on_top:
+            cax.set_title(SIZE_LABELS[name], fontsize=labelsize, pad=3)
+        else:
+            bar.set_label(SIZE_LABELS[name], fontsize=labelsize, labelpad=2)
         cax.tick_params(labelsize=labelsize - 1)
         bars.append(bar)
     return bars

@@ -68,6 +68,9 @@ rule fig3b_ansatz:
         diagram=f"results/ansatz/diagram_ell{ANSATZ['fig3b_ell']:g}.npz",
         continuum=rules.continuum_phase_diagram.output,
         snapshots=mc_snapshot_files(),
+    params:
+        # (particles, box) of the dense runs (the disk scan), to mark them apart from the sparse ones.
+        dense=(MC["dense_n"], MC["dense_box"]),
     output:
         pdf=f"{FIGURES}/fig3b_ansatz.pdf",
         png=f"{FIGURES}/fig3b_ansatz.png",
