@@ -1,8 +1,10 @@
-"""Fig. 5: random-elasticity particles. (a) the nine distances that define a particle's shape;
-(b) the paper's measurement of ell: excess energy per particle against the distance from the
-edge of a half-plane (a wide strip), fitted, beside the exact slowest mode of the
-layer-to-layer transfer problem; (c) ell against the predictor ell_pred of the supplement
-(inset: the strip fit against the exact ell); (d) each particle's optimal fibre width and disk
+"""Fig. 5: random-elasticity particles. (a) the nine distances that define a particle's shape,
+each labelled at the midpoint of the corner pair it joins (random_particles.DISTANCE_PAIRS):
+d1-d3 the yellow triangle, d4-d6 the red one, d7-d9 alternate hexagon sides; (b) the paper's
+measurement of ell: excess energy per particle against the distance from the edge of a
+half-plane (a wide strip, in lattice spacings a = 1), fitted, beside the exact slowest mode of
+the layer-to-layer transfer problem; (c) ell against the predictor ell_pred of the supplement,
+particles per hexagonal bin on a log colour scale (right: the strip fit against the exact ell); (d) each particle's optimal fibre width and disk
 radius over its own continuum prediction (its own nu and ell), against Gamma over its own
 Gamma_max: the test of the paper's "centred around W* and R* predicted by the continuum"."""
 import numpy as np
@@ -14,26 +16,11 @@ from pyfrustrate.io import load_npz, logging_to
 
 def draw_distances(ax):
     eps = 0.15  # exaggerated mismatch, for the drawing only
-    angles = np.deg2rad(30 + 60 * np.arange(6))
-    radius = np.where(np.arange(6) % 2, 1 + eps, 1 - eps) / np.sqrt(3)
-    c = np.column_stack([radius * np.cos(angles), radius * np.sin(angles)])
-    hexagon = np.vstack([c, c[:1]])
-    ax.plot(*hexagon.T, color=plotting.BLUE_SPRING, lw=0.6, ls=":", zorder=0)
-    for i, ((a, b), color) in enumerate(zip(rp.DISTANCE_PAIRS, plotting.DISTANCE_COLORS)):
-        ax.plot(*c[[a, b]].T, color=color, lw=1.6, zorder=1)
-        # Label beside the segment, on the side away from the centre.
-        mid = 0.5 * (c[a] + c[b])
-        normal = np.array([-(c[b] - c[a])[1], (c[b] - c[a])[0]])
-        normal /= np.linalg.norm(normal)
-        normal *= np.sign(normal @ mid) if abs(normal @ mid) > 1e-9 else 1
-        offset = 0.11 if i >= 6 else 0.07
-        ax.text(*(mid + offset * normal), rf"$d_{i + 1}$", ha="center", va="center", fontsize=7,
-                color="k", bbox=dict(boxstyle="round,pad=0.05", fc="w", ec="none", alpha=0.7))
-    ax.scatter(*c.T, c=plotting.CORNER_COLORS, s=22,
-               edgecolors="k", linewidths=0.5, zorder=2)
-    ax.set_aspect("equal")
-    ax.set_xlim(-0.85, 0.85)
-    ax.set_ylim(-0.8, 0.85)
+    # The rest corners with the yellow (odd) slots pushed out and the red (even) ones pulled in.
+    radius = np.where(np.arange(6) % 2, 1 + eps, 1 - eps)
+    plotting.draw_distance_definitions(ax, rp.REST_CORNERS * radius[:, None], rp.DISTANCE_PAIRS, fontsize=6.5)
+    ax.set_xlim(-0.9, 0.9)
+    ax.set_ylim(-0.85, 0.9)
     ax.axis("off")
 
 
@@ -57,7 +44,7 @@ def draw_profile(fig, strip_ax, ax, fits):
                     label=rf"{label}: $\ell={length:.2f}$")
     ax.set_ylim(max(excess[ok].min(), 1e-8), 2 * excess.max())
     ax.set_xlim(0, min(d[-1], 8 * fits["example_ell"]))
-    ax.set_xlabel("distance from the edge")
+    ax.set_xlabel("distance from the edge\n" r"(lattice spacings, $a = 1$)")
     ax.set_ylabel(r"$|e - e_\mathrm{bulk}|/e_\mathrm{bulk}$")
     ax.legend(frameon=False, fontsize=6)
 
@@ -65,8 +52,13 @@ def draw_profile(fig, strip_ax, ax, fits):
 def draw_ell(ax, summary):
     ell, pred = summary["plotted_ell"].astype(float), summary["plotted_ell_pred"].astype(float)
     ok = (ell > 0) & (pred > 0)
-    ax.hexbin(pred[ok], ell[ok], xscale="log", yscale="log", gridsize=45, bins="log", cmap="Greys", mincnt=1,
-              linewidths=0)
+    bins = ax.hexbin(pred[ok], ell[ok], xscale="log", yscale="log", gridsize=45, bins="log", cmap="Greys", mincnt=1,
+                     linewidths=0)
+    # Inside the empty lower-right corner, so that the panel keeps its width.
+    bar = ax.figure.colorbar(bins, cax=ax.inset_axes([0.6, 0.2, 0.35, 0.045]), orientation="horizontal")
+    bar.ax.set_title("particles per bin", fontsize=6, pad=2)
+    bar.ax.tick_params(labelsize=5.5, pad=1)
+    bar.ax.minorticks_off()
     line = np.array([0.05, 20])
     ax.plot(line, line, color="#d3002d", lw=1.2)
     ax.set_xlim(0.05, 10)
@@ -148,17 +140,20 @@ def main(summary_path, fits_path, size_paths, outputs):
               "ell", "nu")}
     sizes["Gamma_relative"] = parts[0]["Gamma_relative"]
     fig = plotting.figure(17.8, 17.5)
-    grid = fig.add_gridspec(3, 4, height_ratios=[1, 1.1, 1], hspace=1.0, wspace=0.6)
-    ax = fig.add_subplot(grid[0, 0])
+    grid = fig.add_gridspec(3, 4, height_ratios=[1.25, 1.1, 1], hspace=0.9, wspace=0.6)
+    # Top row: the particle drawing wide enough that its nine labels stand clear of its lines.
+    top = grid[0, :].subgridspec(1, 3, width_ratios=[1.35, 2, 1.1], wspace=0.35)
+    ax = fig.add_subplot(top[0])
     draw_distances(ax)
     plotting.panel_label(ax, "a")
-    strip = fig.add_subplot(grid[0, 1:3])
-    profile = fig.add_subplot(grid[0, 3])
+    strip = fig.add_subplot(top[1])
+    profile = fig.add_subplot(top[2])
     draw_profile(fig, strip, profile, fits)
     plotting.panel_label(strip, "b")
     ax = fig.add_subplot(grid[1, 0:2])
     draw_ell(ax, summary)
     plotting.panel_label(ax, "c")
+    ax.texts[-1].set_y(1.07)  # clear of the top tick label
     draw_fit_check(fig.add_subplot(grid[1, 2:4]), fits)
     ax_w, ax_r = fig.add_subplot(grid[2, 0:2]), fig.add_subplot(grid[2, 2:4])
     draw_size_ratios(ax_w, sizes, "fiber")

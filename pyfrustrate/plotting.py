@@ -80,6 +80,51 @@ def draw_particle_springs(ax, corners, linewidth: float = 1.2, markersize: float
     ax.autoscale_view()
 
 
+def _distance_to_segments(point, segments) -> np.ndarray:
+    """Distance from ``point`` (2,) to each segment of ``segments`` (n, 2, 2); a segment of zero
+    length is a point."""
+    a, b = segments[:, 0], segments[:, 1]
+    ab = b - a
+    length2 = np.einsum("ij,ij->i", ab, ab)
+    t = np.clip(np.einsum("ij,ij->i", point - a, ab) / np.where(length2 > 0, length2, 1.0), 0.0, 1.0)
+    return np.linalg.norm(a + t[:, None] * ab - point, axis=1)
+
+
+def draw_distance_definitions(ax, corners, pairs, colors=None, fontsize: float = 7, clearance: float = 0.13,
+                              node_radius: float = 0.05, linewidth: float = 1.6, markersize: float = 22) -> None:
+    """The nine distances of a random particle (``pairs``: random_particles.DISTANCE_PAIRS, the
+    corner slots each joins) on its six ``corners`` (6, 2), each labelled d1..d9 at the
+    midpoint of its own pair, moved outwards (away from the particle's centre) to the first
+    place where the label's centre is ``clearance`` (data units; about a label's half-diagonal)
+    from every line and other label, and ``clearance + node_radius`` from every corner, with a
+    thin grey leader back to a dot at the midpoint: in the star of the two triangles a label
+    right at a midpoint would sit on the other triangle's sides."""
+    c = np.asarray(corners, float)
+    colors = DISTANCE_COLORS if colors is None else colors
+    outline = [(c[s], c[(s + 1) % 6]) for s in range(6)]
+    segments = np.array([(c[a], c[b]) for a, b in pairs] + outline)
+    ax.plot(*np.vstack([c, c[:1]]).T, color=BLUE_SPRING, lw=0.6, ls=":", zorder=0)
+    centre = c.mean(axis=0)
+    placed = []
+    for i, ((a, b), color) in enumerate(zip(pairs, colors)):
+        ax.plot(*c[[a, b]].T, color=color, lw=linewidth, zorder=1)
+        mid = 0.5 * (c[a] + c[b])
+        outward = (mid - centre) / np.linalg.norm(mid - centre)
+        for step in np.arange(0.0, 1.5, 0.005):
+            at = mid + step * outward
+            if (_distance_to_segments(at, segments).min() >= clearance
+                    and np.linalg.norm(c - at, axis=1).min() >= clearance + node_radius
+                    and all(np.linalg.norm(at - p) >= 2 * clearance for p in placed)):
+                break
+        placed.append(at)
+        ax.plot(*np.array([mid, at]).T, color="0.45", lw=0.4, zorder=0.5)
+        ax.plot(*mid, "o", ms=2.4, color=color, mec="k", mew=0.3, zorder=2.5)
+        ax.text(*at, rf"$d_{i + 1}$", ha="center", va="center", fontsize=fontsize, color="k", zorder=4,
+                bbox=dict(boxstyle="round,pad=0.1", fc="w", ec=color, lw=0.8))
+    ax.scatter(*c.T, c=CORNER_COLORS, s=markersize, edgecolors="k", linewidths=0.5, zorder=3)
+    ax.set_aspect("equal")
+
+
 def shaded_colormap(color):
     """White-to-``color`` colormap, for sizes inside a region of a phase diagram."""
     from matplotlib.colors import LinearSegmentedColormap
