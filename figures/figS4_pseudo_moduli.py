@@ -2,51 +2,106 @@
 panel shows the corner displacements (arrows, magnified) that change the nine distances by the
 protocol's vector dd and nothing else (the minimum-norm solution of J u = dd: no rigid motion),
 and the pseudo-modulus dd^T M dd / A_hex of a simple particle (ell = 5, nu = 0.5, written as a
-random particle) beside the continuum modulus it stands for (supplement S1)."""
+random particle) beside the continuum modulus it stands for (supplement S1).
+
+(a) The coupling modulus kappa_c from a horizontal shift of the two triangles (the package's
+protocol, random_particles.PSEUDO_MODULUS_VECTORS), with the definitions of the distances
+d1..d9 recalled on the left. (b) The paper's equivalent protocol, a vertical shift: its dd is
+computed here from the corner displacements (yellow corners up by half a unit, red ones down)
+through the distance Jacobian, and its pseudo-modulus agrees with (a), as the particle's
+three-fold symmetry requires for every shift direction (tests/test_pseudo_moduli_protocols.py
+checks it for random particles). (c)-(g) The bulk and shear pseudo-moduli."""
 import numpy as np
 
 from pyfrustrate import Hexagon, plotting
 from pyfrustrate import random_particles as rp
 from pyfrustrate.io import logging_to
 
-PANELS = (("kappa_c", r"$\kappa_c$: shift of the triangles", "kappa_c"),
-          ("K", r"$K$: yellow shrinks, red grows", "K"),
-          ("K_up", r"$K^\uparrow$: yellow bulk", "K"),
-          ("mu_up", r"$\mu^\uparrow$: yellow shear", "mu"),
-          ("K_down", r"$K^\downarrow$: red bulk", "K"),
-          ("mu_down", r"$\mu^\downarrow$: red shear", "mu"))
+YELLOW_SLOTS = np.arange(6) % 2 == 1  # odd slots yellow, even red (REST_CORNERS)
+SYMBOLS = {"kappa_c": r"$\kappa_c$", "K": r"$K = \lambda + \mu$", "mu": r"$\mu$"}
+# (protocol, title, continuum modulus it stands for) of panels (c)-(g).
+BULK_PANELS = (("K", "$K$: yellow shrinks,\nred grows", "K"),
+               ("K_up", r"$K^\uparrow$: yellow bulk", "K"),
+               ("mu_up", r"$\mu^\uparrow$: yellow shear", "mu"),
+               ("K_down", r"$K^\downarrow$: red bulk", "K"),
+               ("mu_down", r"$\mu^\downarrow$: red shear", "mu"))
 
 
-def main(outputs, ell=5.0, nu=0.5, magnify=0.35):
+def shift_distances(direction) -> np.ndarray:
+    """First-order change of the nine distances when the yellow triangle moves by half of the
+    unit vector ``direction`` and the red one by half the other way (relative shift 1)."""
+    displacement = np.where(YELLOW_SLOTS[:, None], 0.5, -0.5) * np.asarray(direction, float)
+    return rp.distance_jacobian() @ displacement.ravel()
+
+
+def pseudo_modulus(M, dd) -> float:
+    return float(dd @ M @ dd / rp.HEXAGON_AREA)
+
+
+def draw_protocol(ax, dd, title, magnify):
+    rest = rp.REST_CORNERS
+    u = (np.linalg.pinv(rp.distance_jacobian()) @ dd).reshape(6, 2)
+    moved = rest + magnify * u
+    for (a, b), color in zip(rp.DISTANCE_PAIRS, plotting.DISTANCE_COLORS):
+        ax.plot(*rest[[a, b]].T, color=color, lw=0.8, alpha=0.35)
+        ax.plot(*moved[[a, b]].T, color=color, lw=1.5)
+    ax.quiver(*rest.T, *(magnify * u).T, angles="xy", scale_units="xy", scale=1, width=0.012, color="k")
+    ax.scatter(*rest.T, c=plotting.CORNER_COLORS, s=12, edgecolors="k", linewidths=0.4, zorder=3)
+    ax.set_aspect("equal")
+    ax.set_xlim(-0.95, 0.95)
+    ax.set_ylim(-0.9, 0.9)
+    ax.axis("off")
+    ax.set_title(title, fontsize=7.5)
+
+
+def value_text(ax, text):
+    ax.text(0.5, -0.04, text, transform=ax.transAxes, ha="center", va="top", fontsize=6.5)
+
+
+def main(outputs, ell=5.0, nu=0.5, magnify=0.35, drawing_eps=0.15):
     simple = Hexagon.from_continuum(ell, nu, eps=0.01)
-    moduli = rp.RandomHexagon.from_hexagon(simple).moduli
+    particle = rp.RandomHexagon.from_hexagon(simple)
+    moduli = particle.moduli
     c = simple.continuum
     reference = {"kappa_c": c.kappa_c, "K": c.lam + c.mu, "mu": c.mu}
-    Jp = np.linalg.pinv(rp.distance_jacobian())
-    rest = rp.REST_CORNERS
-    fig = plotting.figure(17.8, 10.0)
-    for k, (name, title, ref) in enumerate(PANELS):
-        ax = fig.add_subplot(2, 3, k + 1)
-        u = (Jp @ rp.PSEUDO_MODULUS_VECTORS[name]).reshape(6, 2)
-        moved = rest + magnify * u
-        for (a, b), color in zip(rp.DISTANCE_PAIRS, plotting.DISTANCE_COLORS):
-            ax.plot(*rest[[a, b]].T, color=color, lw=0.8, alpha=0.35)
-            ax.plot(*moved[[a, b]].T, color=color, lw=1.5)
-        ax.quiver(*rest.T, *(magnify * u).T, angles="xy", scale_units="xy", scale=1, width=0.012, color="k")
-        ax.scatter(*rest.T, c=plotting.CORNER_COLORS, s=12,
-                   edgecolors="k", linewidths=0.4, zorder=3)
-        ax.set_aspect("equal")
-        ax.set_xlim(-0.95, 0.95)
-        ax.set_ylim(-0.9, 0.9)
-        ax.axis("off")
-        ax.set_title(title, fontsize=8)
-        symbol = {"kappa_c": r"$\kappa_c$", "K": r"$K = \lambda + \mu$", "mu": r"$\mu$"}[ref]
-        ax.text(0.5, -0.04, f"simple particle: {moduli[name]:.4g}\ncontinuum {symbol}: {reference[ref]:.4g}",
-                transform=ax.transAxes, ha="center", va="top", fontsize=6.5)
-    fig.text(0.5, 0.005, rf"simple particle $\ell = {ell:g}$, $\nu = {nu:g}$ ($k_c/k = {simple.kc / simple.k:.4f}$): "
-             r"$\kappa_c$ and $K$ exact; $K^{\uparrow\downarrow}$, $\mu^{\uparrow\downarrow}$ within $O(k_c/k)$",
+    fig = plotting.figure(17.8, 10.5)
+    grid = fig.add_gridspec(2, 4, hspace=0.45, wspace=0.15)
+
+    # (a) the distances, and the horizontal shift of the package's kappa_c
+    ax = fig.add_subplot(grid[0, 0])
+    radius = np.where(YELLOW_SLOTS, 1 + drawing_eps, 1 - drawing_eps)  # mismatch exaggerated
+    plotting.draw_distance_definitions(ax, rp.REST_CORNERS * radius[:, None], rp.DISTANCE_PAIRS, fontsize=6)
+    ax.set_xlim(-0.95, 0.95)
+    ax.set_ylim(-0.9, 0.9)
+    ax.axis("off")
+    ax.set_title("distances $d_1 \\ldots d_9$\n" r"(at rest, $\epsilon$ exaggerated)", fontsize=7.5)
+    horizontal = rp.PSEUDO_MODULUS_VECTORS["kappa_c"]
+    ax = fig.add_subplot(grid[0, 1])
+    draw_protocol(ax, horizontal, "(a) $\\kappa_c$: horizontal shift\nof the triangles", magnify)
+    kappa_horizontal = float(moduli["kappa_c"])
+    value_text(ax, f"simple particle: {kappa_horizontal:.6g}\ncontinuum {SYMBOLS['kappa_c']}: "
+                   f"{reference['kappa_c']:.6g}")
+
+    # (b) the vertical shift, its dd from the corner displacements
+    vertical = shift_distances([0.0, 1.0])
+    ax = fig.add_subplot(grid[0, 2])
+    draw_protocol(ax, vertical, "(b) $\\kappa_c$: vertical shift\nof the triangles", magnify)
+    kappa_vertical = pseudo_modulus(particle.M, vertical)
+    value_text(ax, f"simple particle: {kappa_vertical:.6g}\n"
+                   f"relative difference to (a): {abs(kappa_vertical / kappa_horizontal - 1):.1e}")
+
+    # (c)-(g) the bulk and shear pseudo-moduli
+    slots = [grid[0, 3]] + [grid[1, j] for j in range(4)]
+    for slot, label, (name, title, ref) in zip(slots, "cdefg", BULK_PANELS):
+        ax = fig.add_subplot(slot)
+        draw_protocol(ax, rp.PSEUDO_MODULUS_VECTORS[name], f"({label}) {title}", magnify)
+        value_text(ax, f"simple particle: {moduli[name]:.4g}\ncontinuum {SYMBOLS[ref]}: {reference[ref]:.4g}")
+    print(f"kappa_c of the simple particle: horizontal shift {kappa_horizontal:.12g}, "
+          f"vertical shift {kappa_vertical:.12g}, continuum {reference['kappa_c']:.12g}")
+    fig.text(0.5, 0.0, rf"simple particle $\ell = {ell:g}$, $\nu = {nu:g}$ ($k_c/k = {simple.kc / simple.k:.4f}$): "
+             r"$\kappa_c$ (either shift) and $K$ exact; $K^{\uparrow\downarrow}$, $\mu^{\uparrow\downarrow}$ within "
+             r"$O(k_c/k)$. Arrows: corner displacements, magnified.",
              ha="center", fontsize=7)
-    fig.tight_layout(rect=(0, 0.05, 1, 1))
     plotting.save(fig, outputs)
 
 
