@@ -61,7 +61,8 @@ def main(diagram_path, continuum_path, snapshot_paths, dense, outputs):
         seed = f", seed {int(r['seed'])}" if int(r["seed"]) != 1 else ""
         sub.set_title(rf"{k}: $\Gamma$={float(r['Gamma']):g}, $\nu$={float(r['nu']):g}{seed}", fontsize=6)
         box = int(r["box"])
-        sub.text(0.02, 0.02, f"{BOX_MARKERS[kind][1]} {kind}, {box} x {box}", transform=sub.transAxes, fontsize=5.5, va="bottom",
+        sub.text(0.02, 0.02, f"{BOX_MARKERS[kind][1]} {kind}, {box} x {box}", transform=sub.transAxes,
+                 fontsize=5.5, va="bottom",
                  color="k" if kind == "dense" else "0.35", fontweight="bold" if kind == "dense" else "normal",
                  bbox=dict(boxstyle="round,pad=0.15", fc="w", ec="k" if kind == "dense" else "none", lw=0.5))
     sizes = {kind: (int(r["n"]), int(r["box"])) for r, kind in zip(runs, kinds)}
@@ -69,7 +70,8 @@ def main(diagram_path, continuum_path, snapshot_paths, dense, outputs):
     fig.text(0.06, 0.02, "Monte Carlo, " + f"{len(runs)} runs: "
              + "; ".join(f"{kind} box {BOX_MARKERS[kind][1]} (panels {numbers[kind]}): {n} particles in {b} x {b} sites"
                          for kind, (n, b) in sorted(sizes.items(), reverse=True))
-             + ".\nThe paper shows its dense runs in its bottom row; here the panels run by nu (top to bottom), then Gamma.\n"
+             + ".\nThe paper shows its dense runs in its bottom row; here the panels run by nu (top to bottom), "
+             "then Gamma.\n"
              "Each panel is centred on its largest cluster (others in other colours), all on one scale;"
              " dotted: edges of the periodic box.\n"
              "At nu = 0.9 a box of 200 particles holds a fibre of the optimal width only below Gamma ~ 0.35; "

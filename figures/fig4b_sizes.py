@@ -51,7 +51,8 @@ def main(data_path, outputs):
         medians = np.nanmedian(ratios, axis=1)
         quartiles = np.nanpercentile(ratios, [25, 75], axis=1).T
         for ell, med, (q1, q3) in zip(ells, medians, quartiles):
-            print(f"{kind} ell = {ell:g}: median {symbol}*/{symbol}*_continuum = {med:.3f} (quartiles {q1:.3f}-{q3:.3f})")
+            print(f"{kind} ell = {ell:g}: median {symbol}*/{symbol}*_continuum = {med:.3f} "
+                  f"(quartiles {q1:.3f}-{q3:.3f})")
         summary.append(rf"${symbol}^*/{symbol}^*_\mathrm{{continuum}}$ within {100 * COLLAPSE_TOLERANCE:.0f} % "
                        f"(median) for {collapse_range(ells, medians)}")
         for col in range(2):

@@ -4,9 +4,10 @@ d1-d3 the yellow triangle, d4-d6 the red one, d7-d9 alternate hexagon sides; (b)
 measurement of ell: excess energy per particle against the distance from the edge of a
 half-plane (a wide strip, in lattice spacings a = 1), fitted, beside the exact slowest mode of
 the layer-to-layer transfer problem; (c) ell against the predictor ell_pred of the supplement,
-particles per hexagonal bin on a log colour scale (right: the strip fit against the exact ell); (d) each particle's optimal fibre width and disk
-radius over its own continuum prediction (its own nu and ell), against Gamma over its own
-Gamma_max: the test of the paper's "centred around W* and R* predicted by the continuum"."""
+particles per hexagonal bin on a log colour scale (right: the strip fit against the exact ell);
+(d) each particle's optimal fibre width and disk radius over its own continuum prediction (its
+own nu and ell), against Gamma over its own Gamma_max: the test of the paper's "centred around
+W* and R* predicted by the continuum"."""
 import numpy as np
 
 from pyfrustrate import continuum, plotting
