@@ -142,3 +142,35 @@ rule figS4_pseudo_moduli:
         "results/logs/figS4_pseudo_moduli.log",
     script:
         "../../figures/figS4_pseudo_moduli.py"
+
+
+rule random_ell_definitions:
+    output:
+        study="results/random/ell_definitions.npz",
+        table="results/random/ell_definitions.json",
+    params:
+        seed=RANDOM["seed"],
+        ell_groups=RANDOM["ell_groups"],
+        particles=RANDOM["ell_study"]["particles"],
+        depths=RANDOM["ell_study"]["depths"],
+        eps=RANDOM["ell_study"]["eps"],
+        min_shares=RANDOM["ell_study"]["min_shares"],
+    log:
+        "results/logs/random/ell_definitions.log",
+    script:
+        "../scripts/random_ell_definitions.py"
+
+
+rule figX_ell_definitions:
+    input:
+        study=rules.random_ell_definitions.output.study,
+        table=rules.random_ell_definitions.output.table,
+    output:
+        pdf=f"{FIGURES}/figX_ell_definitions.pdf",
+        png=f"{FIGURES}/figX_ell_definitions.png",
+    params:
+        ell_groups=RANDOM["ell_groups"],
+    log:
+        "results/logs/figX_ell_definitions.log",
+    script:
+        "../../figures/figX_ell_definitions.py"
