@@ -13,8 +13,9 @@ from . import chain, continuum, random_particles, topology
 from .particles import Hexagon, Particle, Triangle
 from .relaxation import ConvergenceWarning, Relaxation, StiffnessCache, relax
 from .montecarlo import AnnealResult, anneal
+from .replica_exchange import ReplicaExchangeResult, replica_exchange
 from .random_particles import RandomHexagon
 
 __version__ = "0.1.0"
 __all__ = ["chain", "continuum", "topology", "random_particles", "Hexagon", "Triangle", "Particle", "RandomHexagon", "relax", "Relaxation", "StiffnessCache",
-           "ConvergenceWarning", "anneal", "AnnealResult"]
+           "ConvergenceWarning", "anneal", "AnnealResult", "replica_exchange", "ReplicaExchangeResult"]

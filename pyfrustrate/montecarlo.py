@@ -77,7 +77,27 @@ DEFAULT_SWEEPS = 10_000
 
 
 @dataclass
-class AnnealResult:
+class BoxState:
+    """A final configuration of the periodic box, shared by ``AnnealResult`` and
+    ``replica_exchange.ReplicaExchangeResult``: ``sites`` (n, 2) (or (n, 3)), ``box``, ``n``,
+    ``g``, ``energy = -g * bonds + deformation``, ``bonds`` and ``deformation``."""
+
+    sites: np.ndarray = field(repr=False)
+    box: int
+    n: int
+    g: float
+    energy: float
+    bonds: int
+    deformation: float
+
+    def clusters(self) -> list[np.ndarray]:
+        """Final clusters, largest first: unwrapped sites, each shape (k, 2) (or (k, 3) for tilings
+        with several sublattices)."""
+        return [c for c, _ in clusters(self.sites, self.box, getattr(self, "tiling", "hexagon"))]
+
+
+@dataclass
+class AnnealResult(BoxState):
     """Outcome of ``anneal``.
 
     Attributes
@@ -118,13 +138,6 @@ class AnnealResult:
         Whether the run started from a checkpoint.
     """
 
-    sites: np.ndarray = field(repr=False)
-    box: int
-    n: int
-    g: float
-    energy: float
-    bonds: int
-    deformation: float
     steps: np.ndarray = field(repr=False)
     temperature: np.ndarray = field(repr=False)
     energy_trace: np.ndarray = field(repr=False)
@@ -144,11 +157,6 @@ class AnnealResult:
         c = self.counters
         total = c["cache_hits"] + c["cache_misses"]
         return c["cache_hits"] / total if total else float("nan")
-
-    def clusters(self) -> list[np.ndarray]:
-        """Final clusters, largest first: unwrapped sites, each shape (k, 2) (or (k, 3) for tilings
-        with several sublattices)."""
-        return [c for c, _ in clusters(self.sites, self.box, self.tiling)]
 
 
 # ---------------------------------------------------------------------------------------------
