@@ -6,7 +6,11 @@ widening with Gamma (up to the width a box of n particles can hold: figX_mc_fini
 at nu = 0.4 growing with Gamma (the dense box: diamonds, and a "dense" tag on their panels), and
 the transition from disks to elongated aggregates along Gamma = 0.5; two seeds at
 (Gamma, nu) = (0.5, 0.9). The paper puts its dense runs in the bottom row; here the panels run
-by nu (top to bottom) and Gamma, so the dense runs sit in the row of nu = 0.4."""
+by nu (top to bottom) and Gamma, so the dense runs sit in the row of nu = 0.4.
+
+With ``convention = "supplement"`` (figX_fig3b_supplement_convention) the runs read Gamma in the
+supplement's convention, gamma = 4 g/sqrt(3), as the published panels did: each is drawn on our
+diagram at its Gamma in ours (sqrt(3)/4 = 0.433 times the label), titled with both."""
 import numpy as np
 
 from pyfrustrate import plotting
@@ -19,7 +23,7 @@ from pyfrustrate.topology import site_positions
 BOX_MARKERS = {"sparse": ("s", "\u25a1"), "dense": ("D", "\u25c7")}
 
 
-def main(diagram_path, continuum_path, snapshot_paths, dense, outputs):
+def main(diagram_path, continuum_path, snapshot_paths, dense, convention, outputs):
     diagram = load_npz(diagram_path)
     runs = sorted((load_npz(p) for p in snapshot_paths),
                   key=lambda r: (-float(r["nu"]), float(r["Gamma"]), int(r["seed"])))
@@ -34,7 +38,7 @@ def main(diagram_path, continuum_path, snapshot_paths, dense, outputs):
     ax.text(0.8, 0.04, rf"$\ell = {float(diagram['ell']):g}$", transform=ax.transAxes, fontsize=9, color="w")
     offsets = {}
     for k, (r, kind) in enumerate(zip(runs, kinds), start=1):
-        point = (float(r["Gamma"]), float(r["nu"]))
+        point = (float(r["Gamma_measured"]), float(r["nu"]))
         shift = offsets.get(point, 0)
         offsets[point] = shift + 1
         ax.plot(*point, BOX_MARKERS[kind][0], ms=7 if kind == "sparse" else 6.5, mfc="w", mec="k", mew=0.7, zorder=6)
@@ -59,7 +63,11 @@ def main(diagram_path, continuum_path, snapshot_paths, dense, outputs):
         sub.set_xticks([])
         sub.set_yticks([])
         seed = f", seed {int(r['seed'])}" if int(r["seed"]) != 1 else ""
-        sub.set_title(rf"{k}: $\Gamma$={float(r['Gamma']):g}, $\nu$={float(r['nu']):g}{seed}", fontsize=6)
+        if convention == "measured":
+            label = rf"$\Gamma$={float(r['Gamma']):g}"
+        else:
+            label = rf"$\Gamma_{{\rm paper}}$={float(r['Gamma']):g} (ours {float(r['Gamma_measured']):.2f})"
+        sub.set_title(rf"{k}: {label}, $\nu$={float(r['nu']):g}{seed}", fontsize=6)
         box = int(r["box"])
         sub.text(0.02, 0.02, f"{BOX_MARKERS[kind][1]} {kind}, {box} x {box}", transform=sub.transAxes,
                  fontsize=5.5, va="bottom",
@@ -75,11 +83,15 @@ def main(diagram_path, continuum_path, snapshot_paths, dense, outputs):
              "Each panel is centred on its largest cluster (others in other colours), all on one scale;"
              " dotted: edges of the periodic box.\n"
              "At nu = 0.9 a box of 200 particles holds a fibre of the optimal width only below Gamma ~ 0.35; "
-             "above, its best aggregate is compact (figX_mc_finite_size).", fontsize=6, va="bottom")
+             "above, its best aggregate is compact (figX_mc_finite_size)."
+             + ("" if convention == "measured" else
+                "\nGamma read in the supplement's convention, gamma = 4 g/sqrt(3) (binding energies 0.433 times ours); "
+                "markers at the same runs' Gamma in ours, gamma = g."), fontsize=6, va="bottom")
     plotting.save(fig, outputs)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         main(snakemake.input.diagram, snakemake.input.continuum[0], snakemake.input.snapshots,  # noqa: F821
-             snakemake.params.dense, [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             snakemake.params.dense, snakemake.params.convention,  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821

@@ -41,11 +41,24 @@ LINE_TENSION_PER_BINDING_ENERGY = 1.0  # hexagon tiling (line_tension)
 # edges: gamma = g / 2.
 SHEET_MODULI_FACTOR = {"hexagon": 1.0, "triangle": 2.0}
 LINE_TENSION_PER_BINDING = {"hexagon": LINE_TENSION_PER_BINDING_ENERGY, "triangle": 0.5}
+# The binding convention (how Gamma maps to g), an explicit choice. "measured" is gamma = g, the
+# edge energy the discrete hexagon model has (README, results/ansatz/line_tension.json; every
+# figure uses it). "supplement" is the printed gamma = 4 g / sqrt(3): the same Gamma then means a
+# binding energy sqrt(3)/4 = 0.433 times ours, and the paper's Gamma = 0.5 is our 0.217. Hexagons
+# only: the supplement gives no convention for triangles.
+BINDING_CONVENTIONS = ("measured", "supplement")
+_SUPPLEMENT_LINE_TENSION_PER_BINDING = 4.0 / math.sqrt(3.0)
 
 
-def _tiling_constants(tiling):
+def _tiling_constants(tiling, convention="measured"):
     if tiling not in SHEET_MODULI_FACTOR:
         raise ValueError(f"tiling must be one of {tuple(SHEET_MODULI_FACTOR)}, got {tiling!r}")
+    if convention not in BINDING_CONVENTIONS:
+        raise ValueError(f"convention must be one of {BINDING_CONVENTIONS}, got {convention!r}")
+    if convention == "supplement":
+        if tiling != "hexagon":
+            raise ValueError(f"convention: the supplement's gamma = 4 g/sqrt(3) is for hexagons, not {tiling}s")
+        return SHEET_MODULI_FACTOR[tiling], _SUPPLEMENT_LINE_TENSION_PER_BINDING
     return SHEET_MODULI_FACTOR[tiling], LINE_TENSION_PER_BINDING[tiling]
 _SQRT3 = math.sqrt(3.0)
 
@@ -102,7 +115,7 @@ class ParticleParameters:
     g: np.ndarray
 
 
-def line_tension(g, tiling="hexagon"):
+def line_tension(g, tiling="hexagon", convention="measured"):
     """Line tension ``gamma`` of a straight aggregate edge for a binding energy ``g`` per bond.
 
     ``gamma = LINE_TENSION_PER_BINDING_ENERGY * g``, the constant being 1: cutting the particle
@@ -110,18 +123,20 @@ def line_tension(g, tiling="hexagon"):
     edges, so each edge costs ``g`` per unit length. A cut perpendicular to a lattice vector
     breaks ``4/sqrt(3)`` bonds per unit length, ``2 g/sqrt(3)`` per edge; the supplement prints
     ``gamma = 4 g/sqrt(3)``. The convention is to be confirmed by measuring the edge energy of
-    the discrete model (issue #4); it lives only here and in ``binding_energy``.
+    the discrete model (measured: ``results/ansatz/line_tension.json``).
     ``tiling="triangle"``: ``gamma = g/2`` (``LINE_TENSION_PER_BINDING``).
+    ``convention="supplement"``: the printed ``gamma = 4 g/sqrt(3)`` instead (``BINDING_CONVENTIONS``).
     """
-    return _out(_tiling_constants(tiling)[1] * _checked("g", g, lo=0.0))
+    return _out(_tiling_constants(tiling, convention)[1] * _checked("g", g, lo=0.0))
 
 
-def binding_energy(gamma, tiling="hexagon"):
-    """Inverse of ``line_tension``: ``g = gamma/LINE_TENSION_PER_BINDING_ENERGY``."""
-    return _out(_checked("gamma", gamma, lo=0.0) / _tiling_constants(tiling)[1])
+def binding_energy(gamma, tiling="hexagon", convention="measured"):
+    """Inverse of ``line_tension``: ``g = gamma/LINE_TENSION_PER_BINDING_ENERGY`` (or the
+    supplement's ``g = sqrt(3) gamma/4``)."""
+    return _out(_checked("gamma", gamma, lo=0.0) / _tiling_constants(tiling, convention)[1])
 
 
-def mapping(k, kc, k_area, g, eps, tiling="hexagon"):
+def mapping(k, kc, k_area, g, eps, tiling="hexagon", convention="measured"):
     """Continuum parameters of the simple particle (supplement S1, Lame typo fixed).
 
     ``mu = sqrt(3) k/4``, ``nu = (sqrt(3) k + 2 k_area)/(3 sqrt(3) k + 2 k_area)``,
@@ -138,9 +153,10 @@ def mapping(k, kc, k_area, g, eps, tiling="hexagon"):
 
     ``tiling="triangle"``: the triangular particle, whose moduli ``mu, lam, kappa_c`` and
     ``e_bulk`` are twice these (``SHEET_MODULI_FACTOR``; same ``nu``, ``ell`` and bulk energy per
-    particle, area ``sqrt(3)/4`` per particle) and ``gamma = g/2``.
+    particle, area ``sqrt(3)/4`` per particle) and ``gamma = g/2``. ``convention``: the binding
+    convention of ``gamma`` (``line_tension``).
     """
-    factor, _ = _tiling_constants(tiling)
+    factor, _ = _tiling_constants(tiling, convention)
     k = _checked("k", k, lo=0.0, lo_open=True)
     kc = _checked("kc", kc, lo=0.0)
     k_area = _checked("k_area", k_area, finite=False)
@@ -156,13 +172,13 @@ def mapping(k, kc, k_area, g, eps, tiling="hexagon"):
     with np.errstate(divide="ignore"):
         ell = np.sqrt(p_wave / (2.0 * kappa_c))
     e_bulk = factor * 2.0 * eps**2 * (_SQRT3 * k + k_area)
-    gamma = np.asarray(line_tension(g, tiling))
+    gamma = np.asarray(line_tension(g, tiling, convention))
     return ContinuumParameters(mu=mu, nu=nu, lam=p_wave - 2.0 * mu, kappa_c=kappa_c, gamma=gamma,
                                ell=ell, e_bulk=e_bulk,
                                Gamma=2.0 * gamma / ((1.0 + nu) * ell * e_bulk))
 
 
-def particle_parameters(ell, nu, Gamma, k=1.0, eps=0.01, tiling="hexagon"):
+def particle_parameters(ell, nu, Gamma, k=1.0, eps=0.01, tiling="hexagon", convention="measured"):
     """Particle parameters with continuum ``(ell, nu, Gamma)`` at given ``k, eps``.
 
     Inverse of ``mapping``: ``kc = k/(8 (1 - nu) ell^2)``,
@@ -170,9 +186,10 @@ def particle_parameters(ell, nu, Gamma, k=1.0, eps=0.01, tiling="hexagon"):
     e_bulk/2)`` with ``e_bulk = sqrt(3) k eps^2 (1 + nu)/(1 - nu)``. ``ell > 0`` finite and
     ``-1 < nu < 1`` (``nu < 1/3`` needs ``k_area < 0``; ``nu = 1`` has no finite particle).
     ``tiling="triangle"``: the same ``kc`` and ``k_area``; ``g`` from that tiling's ``e_bulk`` and
-    line tension (``mapping``).
+    line tension (``mapping``). ``convention``: how ``Gamma`` maps to ``g`` (``BINDING_CONVENTIONS``;
+    ``"supplement"`` gives ``sqrt(3)/4`` times the measured convention's ``g``).
     """
-    factor, _ = _tiling_constants(tiling)
+    factor, _ = _tiling_constants(tiling, convention)
     ell = _checked("ell", ell, lo=0.0, lo_open=True)
     nu = _checked("nu", nu, lo=-1.0, hi=1.0, lo_open=True, hi_open=True)
     Gamma = _checked("Gamma", Gamma, lo=0.0)
@@ -182,7 +199,7 @@ def particle_parameters(ell, nu, Gamma, k=1.0, eps=0.01, tiling="hexagon"):
     return ParticleParameters(
         kc=np.asarray(k / (8.0 * (1.0 - nu) * ell**2)),
         k_area=np.asarray(_SQRT3 * k * (3.0 * nu - 1.0) / (2.0 * (1.0 - nu))),
-        g=np.asarray(binding_energy(Gamma * (1.0 + nu) * ell * e_bulk / 2.0, tiling)))
+        g=np.asarray(binding_energy(Gamma * (1.0 + nu) * ell * e_bulk / 2.0, tiling, convention)))
 
 
 def chain_ell(kc_over_k):

@@ -470,3 +470,24 @@ def test_chain_ell_limits():
 def test_invalid_input_raises_naming_the_parameter(call, name):
     with pytest.raises(ValueError, match=rf"^{name}\b"):
         call()
+
+
+def test_binding_conventions_count_the_bonds_of_their_cuts():
+    # "measured": gamma = g, one edge of a cut along a lattice vector (cut 0) counted on the
+    # lattice; "supplement": the printed gamma = 4 g / sqrt(3), the bonds a cut perpendicular to a
+    # lattice vector (cut 1) breaks per unit length, over both its edges.
+    from pyfrustrate import ansatz
+    assert continuum.line_tension(1.0) == pytest.approx(ansatz.edge_line_tension(0))
+    assert continuum.line_tension(1.0, convention="supplement") == pytest.approx(2 * ansatz.edge_line_tension(1))
+    for convention in continuum.BINDING_CONVENTIONS:
+        p = continuum.particle_parameters(5.0, 0.9, 0.5, eps=0.01, convention=convention)
+        back = continuum.mapping(1.0, p.kc, p.k_area, p.g, 0.01, convention=convention)
+        assert back.Gamma == pytest.approx(0.5) and back.ell == pytest.approx(5.0)
+    # The paper's Gamma = 0.5 (supplement convention) is Gamma = 0.217 in ours.
+    g_paper = continuum.particle_parameters(5.0, 0.9, 0.5, eps=0.01, convention="supplement")
+    ours = continuum.mapping(1.0, g_paper.kc, g_paper.k_area, g_paper.g, 0.01)
+    assert ours.Gamma == pytest.approx(0.5 * math.sqrt(3) / 4) and round(float(ours.Gamma), 3) == 0.217
+    with pytest.raises(ValueError, match="convention"):
+        continuum.line_tension(1.0, convention="printed")
+    with pytest.raises(ValueError, match="hexagons"):
+        continuum.particle_parameters(5.0, 0.9, 0.5, tiling="triangle", convention="supplement")

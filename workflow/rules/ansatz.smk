@@ -71,11 +71,31 @@ rule fig3b_ansatz:
     params:
         # (particles, box) of the dense runs (the disk scan), to mark them apart from the sparse ones.
         dense=(MC["dense_n"], MC["dense_box"]),
+        convention="measured",
     output:
         pdf=f"{FIGURES}/fig3b_ansatz.pdf",
         png=f"{FIGURES}/fig3b_ansatz.png",
     log:
         "results/logs/fig3b_ansatz.log",
+    script:
+        "../../figures/fig3b_ansatz.py"
+
+
+# Fig. 3b's Monte Carlo runs with Gamma read in the supplement's convention (gamma = 4 g/sqrt(3)),
+# to compare with the published panels; drawn on our diagram at their Gamma in ours.
+rule figX_fig3b_supplement_convention:
+    input:
+        diagram=f"results/ansatz/diagram_ell{ANSATZ['fig3b_ell']:g}.npz",
+        continuum=rules.continuum_phase_diagram.output,
+        snapshots=mc_snapshot_files("supplement"),
+    params:
+        dense=(MC["dense_n"], MC["dense_box"]),
+        convention="supplement",
+    output:
+        pdf=f"{FIGURES}/figX_fig3b_supplement_convention.pdf",
+        png=f"{FIGURES}/figX_fig3b_supplement_convention.png",
+    log:
+        "results/logs/figX_fig3b_supplement_convention.log",
     script:
         "../../figures/fig3b_ansatz.py"
 

@@ -9,10 +9,13 @@ def catalogue_file(ell, nu):
 MC = config["montecarlo"]
 
 
-def mc_run_file(nu, Gamma, seed, kind="sparse"):
+def mc_run_file(nu, Gamma, seed, kind="sparse", convention="measured"):
     """One annealing run; ``kind`` picks the box: 'sparse' (n, box), 'dense' (dense_n, dense_box:
-    the bottom row of Fig. 3b) or 'large' (large_n, large_box: figX_mc_finite_size)."""
-    return f"results/montecarlo/runs/{kind}_nu{float(nu):g}_G{float(Gamma):g}_seed{seed}.npz"
+    the bottom row of Fig. 3b) or 'large' (large_n, large_box: figX_mc_finite_size);
+    ``convention`` how Gamma maps to g (continuum.BINDING_CONVENTIONS): the supplement's runs are
+    the kinds 'sparse_supplement' and 'dense_supplement'."""
+    suffix = "" if convention == "measured" else f"_{convention}"
+    return f"results/montecarlo/runs/{kind}{suffix}_nu{float(nu):g}_G{float(Gamma):g}_seed{seed}.npz"
 
 
 def finite_aggregate_file(n, nu):
@@ -20,16 +23,18 @@ def finite_aggregate_file(n, nu):
     return f"results/montecarlo/finite/n{int(n)}_nu{float(nu):g}.npz"
 
 
-def mc_snapshot_files():
+def mc_snapshot_files(convention="measured"):
     """The runs of Fig. 3b: the fibre scan (nu fixed, Gamma rising), the dense disk scan (the
-    bottom row), the nu scan at fixed Gamma, and every seed at the extra point."""
+    bottom row), the nu scan at fixed Gamma, and every seed at the extra point; with Gamma read
+    in the binding ``convention``."""
     first = MC["seeds"][0]
     runs = [(MC["fiber_scan_nu"], G, first) for G in MC["fiber_scan_Gamma"]]
     runs += [(MC["disk_scan_nu"], G, first, "dense") for G in MC["disk_scan_Gamma"]]
     runs += [(nu, MC["nu_scan_Gamma"], first) for nu in MC["nu_scan_nu"]]
     G, nu = MC["extra_seed_point"]
     runs += [(nu, G, seed) for seed in MC["seeds"]]
-    return sorted({mc_run_file(*r) for r in runs})
+    return sorted({mc_run_file(*r, convention=convention) if len(r) == 4 else
+                   mc_run_file(*r, "sparse", convention) for r in runs})
 
 
 def mc_finite_size_files():

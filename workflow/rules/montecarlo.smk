@@ -7,12 +7,14 @@ rule montecarlo_run:
         nu=lambda w: float(w.nu),
         Gamma=lambda w: float(w.Gamma),
         seed=lambda w: int(w.seed),
-        kind=lambda w: w.kind,
+        kind=lambda w: w.kind.split("_")[0],
+        convention=lambda w: w.kind.split("_")[1] if "_" in w.kind else "measured",
         tiling="hexagon",
         checkpoint_stem=lambda w: f"results/montecarlo/checkpoints/{w.kind}_nu{w.nu}_G{w.Gamma}_seed{w.seed}",
         settings=MC,
     wildcard_constraints:
-        kind="sparse|dense|large",
+        kind="sparse|dense|large|sparse_supplement|dense_supplement",
+        seed=r"\d+",
     log:
         "results/logs/montecarlo/{kind}_nu{nu}_G{Gamma}_seed{seed}.log",
     script:

@@ -39,6 +39,7 @@ rule triangle_montecarlo_run:
         Gamma=lambda w: float(w.Gamma),
         seed=TRIANGLE_MC["seed"],
         kind=lambda w: w.kind,
+        convention="measured",
         tiling="triangle",
         checkpoint_stem=lambda w: f"results/triangle/checkpoints/{w.kind}_nu{w.nu}_G{w.Gamma}",
         settings=TRIANGLE_MC,

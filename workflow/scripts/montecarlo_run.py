@@ -2,7 +2,9 @@
 particles at random in a periodic box, moves of single particles (and, with probability
 cluster_moves, of whole clusters), Metropolis on the topology with relaxed cluster energies,
 temperature lowered linearly from g to 0. The run's kind picks the box: sparse (n, box), dense
-(dense_*: the bottom row of Fig. 3b) or large (large_*: figX_mc_finite_size)."""
+(dense_*: the bottom row of Fig. 3b) or large (large_*: figX_mc_finite_size); its convention how
+Gamma maps to g (continuum.BINDING_CONVENTIONS). Gamma_measured is the run's Gamma in the
+measured convention (gamma = g), where the ansatz and continuum diagrams are drawn."""
 import os
 
 import numpy as np
@@ -15,7 +17,10 @@ s = snakemake.params.settings  # noqa: F821
 p = snakemake.params  # noqa: F821
 with logging_to(snakemake.log[0]):  # noqa: F821
     particle = particle_class(p.tiling).from_continuum(s["ell"], p.nu, eps=s["eps"])
-    g = float(continuum.particle_parameters(s["ell"], p.nu, p.Gamma, eps=s["eps"], tiling=p.tiling).g)
+    g = float(continuum.particle_parameters(s["ell"], p.nu, p.Gamma, eps=s["eps"], tiling=p.tiling,
+                                            convention=p.convention).g)
+    Gamma_measured = float(continuum.mapping(particle.k, particle.kc, particle.k_area, g, s["eps"],
+                                             tiling=p.tiling).Gamma)
     prefix = "" if p.kind == "sparse" else f"{p.kind}_"
     n, box, method, sweeps = (s[prefix + key] for key in ("n", "box", "method", "sweeps"))
     cluster_moves = s["cluster_moves"]
@@ -31,5 +36,6 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     save_npz(snakemake.output[0], sites=r.sites, box=box, n=n, nu=p.nu, Gamma=p.Gamma, ell=s["ell"],  # noqa: F821
              seed=p.seed, g=g, energy=r.energy, energy_trace=r.energy_trace, temperature=r.temperature,
              steps=r.steps, acceptance=r.acceptance, stage_acceptance=r.stage_acceptance, method=method,
-             cluster_sizes=np.array(sizes), cluster_moves=cluster_moves, kind=p.kind, tiling=p.tiling)
+             cluster_sizes=np.array(sizes), cluster_moves=cluster_moves, kind=p.kind, tiling=p.tiling,
+             convention=p.convention, Gamma_measured=Gamma_measured)
     os.remove(checkpoint)  # the result is saved: nothing left to resume
