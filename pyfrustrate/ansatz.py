@@ -161,8 +161,26 @@ def edge_line_tension(cut: int, tiling: str = "hexagon") -> float:
 FINITE_SEGMENTS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0)
 
 
+class EnergiesLinearInG:
+    """Candidates whose energies are ``deformation - g * bonds`` (arrays ``deformation`` and
+    ``bonds``, one entry each): the lowest at each binding energy ``g``."""
+
+    def total(self, g) -> np.ndarray:
+        """Total energy ``deformation - g * bonds`` of each candidate, shape (n, *shape(g))."""
+        g = np.asarray(g, float)
+        return self.deformation.reshape((-1,) + (1,) * g.ndim) - np.multiply.outer(self.bonds, g)
+
+    def best(self, g) -> np.ndarray:
+        """Index of the lowest-energy candidate at each binding energy ``g``."""
+        return np.argmin(self.total(g), axis=0)
+
+    def best_energy(self, g) -> np.ndarray:
+        """Total energy of the best candidate at each binding energy ``g``."""
+        return np.min(self.total(g), axis=0)
+
+
 @dataclass(frozen=True)
-class FiniteAggregates:
+class FiniteAggregates(EnergiesLinearInG):
     """Relaxed single aggregates of exactly ``n`` particles, from compact to elongated
     (``topology.stadium_sites``): what a Monte Carlo box of ``n`` particles can form.
 
@@ -182,19 +200,6 @@ class FiniteAggregates:
     width: np.ndarray
     length: np.ndarray
     converged: np.ndarray
-
-    def total(self, g) -> np.ndarray:
-        """Total energy ``deformation - g * bonds`` of each shape, shape (n_shapes, *shape(g))."""
-        g = np.asarray(g, float)
-        return self.deformation.reshape((-1,) + (1,) * g.ndim) - np.multiply.outer(self.bonds, g)
-
-    def best(self, g) -> np.ndarray:
-        """Index of the lowest-energy shape at each binding energy ``g``."""
-        return np.argmin(self.total(g), axis=0)
-
-    def best_energy(self, g) -> np.ndarray:
-        """Total energy of the best single aggregate at each binding energy ``g``."""
-        return np.min(self.total(g), axis=0)
 
     def best_aspect_ratio(self, g) -> np.ndarray:
         """Length over width of the best single aggregate at each ``g`` (1 for a round one)."""

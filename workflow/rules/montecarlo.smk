@@ -55,6 +55,8 @@ rule montecarlo_finite_aggregates:
     params:
         n=lambda w: int(w.n),
         nu=lambda w: float(w.nu),
+        # The box each particle number runs in (candidate ground states of that box).
+        box=lambda w: {MC["n"]: MC["box"], MC["large_n"]: MC["large_box"], MC["dense_n"]: MC["dense_box"]}[int(w.n)],
         settings=MC,
     log:
         "results/logs/montecarlo/finite_n{n}_nu{nu}.log",

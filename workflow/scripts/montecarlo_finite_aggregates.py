@@ -1,13 +1,15 @@
 """Finite-size prediction for a Monte Carlo box of n particles: the relaxed single aggregates of
 exactly n particles, compact to elongated (ansatz.finite_aggregates), and the best of them at
-each line tension Gamma."""
+each line tension Gamma; and the candidate ground states of the box (ground_states.box_candidates:
+single aggregates, a fibre wrapping the box, several aggregates, the gas), saved with the prefix
+candidate_."""
 import numpy as np
 
-from pyfrustrate import Hexagon, ansatz
+from pyfrustrate import Hexagon, ansatz, ground_states
 from pyfrustrate.io import logging_to, save_npz
 
 s = snakemake.params.settings  # noqa: F821
-n, nu = snakemake.params.n, snakemake.params.nu  # noqa: F821
+n, nu, box = snakemake.params.n, snakemake.params.nu, snakemake.params.box  # noqa: F821
 with logging_to(snakemake.log[0]):  # noqa: F821
     particle = Hexagon.from_continuum(s["ell"], nu, eps=s["eps"])
     shapes = ansatz.finite_aggregates(particle, n)
@@ -16,7 +18,10 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     best = shapes.best(g)
     print(f"n={n} nu={nu}: {len(shapes.segment)} shapes, all converged: {bool(shapes.converged.all())}; "
           f"best width {shapes.width[best].min():.1f}-{shapes.width[best].max():.1f} over Gamma in [0, 1.6]")
+    candidates = ground_states.box_candidates(particle, n, box)
+    families = sorted(set(candidates.best_family(g).tolist()))
+    print(f"box {box}: {len(candidates.family)} candidate ground states; best over Gamma in [0, 1.6]: {families}")
     save_npz(snakemake.output[0], n=n, nu=nu, ell=s["ell"], eps=s["eps"], Gamma=Gamma, g=g, best=best,  # noqa: F821
              segment=shapes.segment, sites=np.stack(shapes.sites), deformation=shapes.deformation,
              bonds=shapes.bonds, width=shapes.width, length=shapes.length, converged=shapes.converged,
-             bulk_energy_per_particle=particle.bulk_energy_per_particle)
+             bulk_energy_per_particle=particle.bulk_energy_per_particle, **candidates.arrays())

@@ -1,0 +1,177 @@
+"""Candidate ground states of a periodic Monte Carlo box: what ``n`` particles in a ``box x box``
+lattice can form at best, to judge whether a run has equilibrated (issue: the finite-size
+prediction as the real ground state of the box).
+
+Families, each a set of real configurations of the box (their sites are returned and checked to
+fit without touching their periodic images):
+
+``single``          one aggregate of all ``n`` particles, compact to elongated
+                    (``ansatz.finite_aggregates``: ``topology.stadium_sites``);
+``wrapping_fiber``  full rows along ``a1`` that wrap the box (a straight fibre periodic with the
+                    box, ``n // box`` rows) plus the remaining particles as a partial row on one
+                    edge; with ``n`` near ``box**2`` it is a slab;
+``aggregates{m}``   ``m`` separate aggregates (``m = 2 .. max_aggregates``) of ``n / m`` particles
+                    each (the remainder in the last), all of the same shape index;
+``gas``             every particle alone (energy 0), when the box can hold ``n`` particles none
+                    of which touch.
+
+Each candidate's energy is ``deformation - g * bonds`` with its relaxed deformation energy, so the
+best at a binding energy ``g`` is the lowest of linear functions of ``g``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import ansatz, topology
+from .relaxation import relax
+
+FAMILIES = ("single", "wrapping_fiber", "aggregates", "gas")
+_NEIGHBOURS = tuple(tuple(int(x) for x in d) for d in topology.neighbour_sites((0, 0)))  # the six edge neighbours
+
+
+@dataclass(frozen=True)
+class BoxCandidates(ansatz.EnergiesLinearInG):
+    """Candidate ground states of ``n`` particles in a periodic ``box``: one entry per candidate,
+    ``family`` (str), ``deformation`` (relaxed), ``bonds``, ``sites`` (a tuple of (n, 2) arrays of
+    box cells, 0 <= i, j < box) and ``converged``."""
+
+    n: int
+    box: int
+    family: np.ndarray
+    deformation: np.ndarray
+    bonds: np.ndarray
+    sites: tuple
+    converged: np.ndarray
+
+    def best_family(self, g):
+        """Family (``FAMILIES``, ``aggregates`` with its count) of the best candidate at each ``g``."""
+        return self.family[self.best(g)]
+
+    @classmethod
+    def from_arrays(cls, arrays) -> "BoxCandidates":
+        """Rebuild from a mapping with one entry per field (a saved ``.npz``, ``sites`` stacked,
+        keys prefixed ``candidate_``)."""
+        return cls(int(arrays["candidate_n"]), int(arrays["candidate_box"]), np.asarray(arrays["candidate_family"]),
+                   np.asarray(arrays["candidate_deformation"], float), np.asarray(arrays["candidate_bonds"]),
+                   tuple(np.asarray(arrays["candidate_sites"])), np.asarray(arrays["candidate_converged"], bool))
+
+    def arrays(self) -> dict:
+        """The fields as arrays for ``io.save_npz`` (inverse of ``from_arrays``)."""
+        return {"candidate_n": self.n, "candidate_box": self.box, "candidate_family": self.family.astype(str),
+                "candidate_deformation": self.deformation, "candidate_bonds": self.bonds,
+                "candidate_sites": np.stack(self.sites), "candidate_converged": self.converged}
+
+
+def _in_box(sites, box) -> np.ndarray:
+    return np.mod(np.asarray(sites, int), box)
+
+
+def _touches_itself(sites, box) -> bool:
+    """Whether a finite aggregate placed in the periodic box overlaps or touches one of its own
+    images (then it is not the aggregate it was relaxed as)."""
+    from .montecarlo import clusters
+    wrapped = _in_box(sites, box)
+    if len({tuple(s) for s in wrapped.tolist()}) < len(wrapped):
+        return True
+    parts = clusters(wrapped, box)
+    return len(parts) != 1 or parts[0][1] != 0
+
+
+def _pack(shapes, box):
+    """Place finite aggregates (each an array of sites) in the box, apart: each is shifted to the
+    first cell of a coarse grid where neither it nor its neighbours meet an occupied site. Returns
+    the sites (all, box cells) or None when they do not fit."""
+    occupied = np.zeros((box, box), bool)
+    placed = []
+    step = 2
+    offsets = [(i, j) for j in range(0, box, step) for i in range(0, box, step)]
+    for shape in shapes:
+        shape = np.asarray(shape, int) - np.asarray(shape, int).min(axis=0)
+        for di, dj in offsets:
+            cells = _in_box(shape + (di, dj), box)
+            halo = _in_box(np.concatenate([cells] + [cells + d for d in _NEIGHBOURS]), box)
+            if not occupied[halo[:, 0], halo[:, 1]].any():
+                occupied[cells[:, 0], cells[:, 1]] = True
+                placed.append(cells)
+                break
+        else:
+            return None
+    return np.concatenate(placed)
+
+
+def _gas_sites(n, box):
+    """``n`` sites none of which touch (a sqrt(3) x sqrt(3) pattern, thinned at the seam when the
+    box is not a multiple of 3), or None when the box holds fewer."""
+    chosen, taken = [], np.zeros((box, box), bool)
+    for j in range(box):
+        for i in range(box):
+            if (i - j) % 3 or taken[i, j]:
+                continue
+            if any(taken[(i + a) % box, (j + b) % box] for a, b in _NEIGHBOURS):
+                continue
+            taken[i, j] = True
+            chosen.append((i, j))
+            if len(chosen) == n:
+                return np.array(chosen)
+    return None
+
+
+def box_candidates(particle, n: int, box: int, max_aggregates: int = 4, method: str = "lbfgs",
+                   tol: float = 1e-5) -> BoxCandidates:
+    """Candidate ground states of ``n`` particles in a periodic ``box x box`` lattice (module
+    docstring), relaxed with ``method`` to ``tol``. Hexagon tiling."""
+    if getattr(particle, "tiling", "hexagon") != "hexagon":
+        raise ValueError("particle: box ground states are built for hexagon tilings only")
+    if isinstance(n, bool) or int(n) != n or n < 1:
+        raise ValueError(f"n must be a positive integer, got {n!r}")
+    if isinstance(box, bool) or int(box) != box or box < 2:
+        raise ValueError(f"box must be an integer >= 2, got {box!r}")
+    n, box = int(n), int(box)
+    if n >= box * box:
+        raise ValueError(f"n must be smaller than the box's {box * box} sites, got {n}")
+    max_aggregates = int(max_aggregates)
+    rows = []  # (family, deformation, bonds, sites, converged)
+
+    single = ansatz.finite_aggregates(particle, n, method=method, tol=tol)
+    for k, sites in enumerate(single.sites):
+        if not _touches_itself(sites, box):
+            rows.append(("single", single.deformation[k], single.bonds[k], _in_box(sites, box), single.converged[k]))
+
+    full, rest = divmod(n, box)
+    if full >= 1:
+        sites = [(i, j) for j in range(full) for i in range(box)] + [(i, full) for i in range(rest)]
+        sites = np.array(sites)
+        if full + (rest > 0) < box:  # a slab that fills the box would wrap both ways
+            fibre = topology.Topology("fiber", sites, "fiber", [(box, 0), (0, 0)], curved=False,
+                                      label=f"wrapping fibre of {n} in {box}")
+            kwargs = {"x0": "linear"} if method == "lbfgs" else {}
+            r = relax(particle, fibre, method=method, tol=tol, **kwargs)
+            rows.append(("wrapping_fiber", r.energy, r.n_bonds, sites, r.converged))
+
+    for m in range(2, max_aggregates + 1):
+        q = n // m
+        if q < 2:
+            break
+        parts = {q: ansatz.finite_aggregates(particle, q, method=method, tol=tol)}
+        last = q + n - m * q
+        parts[last] = parts[q] if last == q else ansatz.finite_aggregates(particle, last, method=method, tol=tol)
+        for k in range(len(parts[q].sites)):
+            shapes = [parts[q].sites[k]] * (m - 1) + [parts[last].sites[k]]
+            if any(_touches_itself(shape, box) for shape in shapes[-2:]):
+                continue
+            sites = _pack(shapes, box)
+            if sites is None:
+                continue
+            rows.append((f"aggregates{m}", (m - 1) * parts[q].deformation[k] + parts[last].deformation[k],
+                         (m - 1) * parts[q].bonds[k] + parts[last].bonds[k], sites,
+                         parts[q].converged[k] and parts[last].converged[k]))
+
+    gas = _gas_sites(n, box)
+    if gas is not None:
+        rows.append(("gas", 0.0, 0, gas, True))
+
+    family, deformation, bonds, sites, converged = zip(*rows)
+    return BoxCandidates(n, box, np.array(family), np.array(deformation, float), np.array(bonds, int),
+                         tuple(np.asarray(s, int) for s in sites), np.array(converged, bool))

@@ -1,0 +1,64 @@
+"""Tests of the candidate ground states of a Monte Carlo box (pyfrustrate.ground_states).
+
+Independent references: the Monte Carlo kernel's own energy of each candidate placed in the box
+(its cluster search, periodic wrapping and relaxation: a candidate that touched its image or
+another aggregate, or was relaxed as the wrong scene, would disagree); the infinite straight
+fibre's energy per particle (a period of one cell) for the fibre wrapping the box.
+"""
+import numpy as np
+import pytest
+
+from pyfrustrate import Hexagon, _kernel, relax, topology
+from pyfrustrate.ground_states import BoxCandidates, box_candidates
+
+
+@pytest.fixture(scope="module")
+def particle():
+    return Hexagon.from_continuum(ell=3, nu=0.9, eps=0.02)
+
+
+@pytest.fixture(scope="module")
+def candidates(particle):
+    return box_candidates(particle, 60, 15)
+
+
+def test_every_family_is_represented(candidates):
+    families = set(candidates.family.tolist())
+    assert {"single", "wrapping_fiber", "aggregates2", "aggregates3", "gas"} <= families
+
+
+def test_each_candidate_is_a_configuration_of_the_box_with_the_kernels_energy(particle, candidates):
+    mc = _kernel.MonteCarlo(particle._kernel_model, 0.0, candidates.box, candidates.n, 0, method="lbfgs",
+                            tol=1e-8 * particle.force_scale)
+    for k in range(len(candidates.family)):
+        sites = candidates.sites[k]
+        assert sites.shape == (candidates.n, 2) and len({tuple(s) for s in sites.tolist()}) == candidates.n
+        mc.place(sites)
+        assert mc.bonds == candidates.bonds[k], candidates.family[k]
+        assert mc.box_energy(True) == pytest.approx(candidates.deformation[k], rel=1e-5, abs=1e-12), candidates.family[k]
+
+
+def test_wrapping_fibre_has_the_infinite_fibres_energy_per_particle(particle, candidates):
+    # 60 particles in a box of 15: four full rows wrapping the box.
+    k = list(candidates.family).index("wrapping_fiber")
+    cell = relax(particle, topology.fiber(4, 0, curved=False), method="newton", tol=1e-10)
+    assert candidates.deformation[k] == pytest.approx(15 * cell.energy, rel=1e-6)
+    assert candidates.bonds[k] == 15 * cell.n_bonds
+
+
+def test_gas_wins_without_binding_and_the_best_is_the_lowest(candidates):
+    assert candidates.best_family(0.0) == "gas"
+    g = np.linspace(0, 0.05, 11)
+    assert np.allclose(candidates.best_energy(g), candidates.total(g).min(axis=0))
+    again = BoxCandidates.from_arrays(candidates.arrays())
+    assert np.array_equal(again.best_energy(g), candidates.best_energy(g))
+
+
+def test_a_box_too_small_for_the_gas_has_no_gas_candidate(particle):
+    assert "gas" not in set(box_candidates(particle, 12, 5).family.tolist())
+
+
+@pytest.mark.parametrize("n, box, message", [(0, 10, "n must"), (100, 10, "n must be smaller"), (10, 1, "box")])
+def test_bad_input(particle, n, box, message):
+    with pytest.raises(ValueError, match=message):
+        box_candidates(particle, n, box)
