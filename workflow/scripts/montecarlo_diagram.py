@@ -44,5 +44,6 @@ with logging_to(snakemake.log[0]):  # noqa: F821
               f"{gap_ground:+.1f} above the box's ground state ({ground})")
     nu, Gamma, kind, size, n, gap, single, gap_ground, ground = (np.array(c) for c in zip(*rows))
     save_npz(snakemake.output[0], nu=nu, Gamma=Gamma, kind=kind.astype(str), size=size, n=n,  # noqa: F821
-             gap=gap, single_kind=single.astype(str), gap_ground=gap_ground, ground_family=ground.astype(str), elongation_threshold=ELONGATION_THRESHOLD,
+             gap=gap, single_kind=single.astype(str), gap_ground=gap_ground, ground_family=ground.astype(str),
+             elongation_threshold=ELONGATION_THRESHOLD,
              finite_nu=np.array(finite_nu), finite_Gamma=finite_Gamma, finite_elongated=np.array(finite_elongated))
