@@ -40,7 +40,7 @@ def main(data_path, outputs):
     boundaries = plotting.draw_continuum_boundaries(ax, d)
     triple = plotting.continuum_triple_point(boundaries, d["line_nu"])
     ax.plot(*triple, "o", ms=4, mfc="w", mec="k", zorder=5)
-    ax.annotate(rf"triple point $({triple[0]:.3g}, {triple[1]:.3g})$", triple, xytext=(1.08, 0.38), fontsize=7,
+    ax.annotate(rf"triple point $({triple[0]:.2g}, {triple[1]:.2g})$", triple, xytext=(1.08, 0.38), fontsize=7,
                 arrowprops=dict(arrowstyle="-", lw=0.5))
     for text, xy, color in (("fiber", (0.6, 0.88), "k"), ("disk", (0.35, 0.15), "k"), ("bulk", (1.3, 0.6), "w")):
         ax.text(*xy, text, color=color, fontsize=10, ha="center", fontweight="bold")
