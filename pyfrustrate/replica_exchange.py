@@ -249,7 +249,10 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
                     a, b = replica_at[s], replica_at[s + 1]
                     log_ratio = (1.0 / T[s] - 1.0 / T[s + 1]) * (energy[a] - energy[b])
                     state.swaps_attempted[s] += 1
-                    if log_ratio >= 0 or swap_rng.random() < math.exp(log_ratio):
+                    # A deviate per offer whatever the energies, so that round-off in an energy
+                    # can never shift the swap stream.
+                    u = swap_rng.random()
+                    if log_ratio >= 0 or u < math.exp(log_ratio):
                         slot[a], slot[b] = s + 1, s
                         replica_at[s], replica_at[s + 1] = b, a
                         state.swaps_accepted[s] += 1
