@@ -66,8 +66,12 @@ def main(diagram_path, continuum_path, snapshot_paths, dense, convention, output
         if convention == "measured":
             label = rf"$\Gamma$={float(r['Gamma']):g}"
         else:
-            label = rf"$\Gamma_{{\rm paper}}$={float(r['Gamma']):g} (ours {float(r['Gamma_measured']):.2f})"
-        sub.set_title(rf"{k}: {label}, $\nu$={float(r['nu']):g}{seed}", fontsize=6)
+            label = rf"$\Gamma_{{\rm paper}}$={float(r['Gamma']):g}"
+        if convention == "measured":
+            title = rf"{k}: {label}, $\nu$={float(r['nu']):g}{seed}"
+        else:  # two lines: the label is longer
+            title = rf"{k}: {label}, $\nu$={float(r['nu']):g}" + "\n" + rf"(ours $\Gamma$={float(r['Gamma_measured']):.2f}){seed}"
+        sub.set_title(title, fontsize=6)
         box = int(r["box"])
         sub.text(0.02, 0.02, f"{BOX_MARKERS[kind][1]} {kind}, {box} x {box}", transform=sub.transAxes,
                  fontsize=5.5, va="bottom",
