@@ -48,6 +48,7 @@ particle when ``g = 0``. A record block is ``record_every`` attempted moves (def
 """
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import math
 import os
@@ -64,7 +65,8 @@ from .relaxation import METHODS
 from .io import atomic_path
 from .topology import neighbour_sites, site_columns, site_positions, tiling_facts
 
-__all__ = ["anneal", "AnnealResult", "draw_snapshot", "clusters", "classify_aggregate", "SCHEDULES"]
+__all__ = ["anneal", "AnnealResult", "AnnealState", "read_checkpoint",
+           "draw_snapshot", "clusters", "classify_aggregate", "SCHEDULES"]
 
 SCHEDULES = ("linear", "geometric")
 _CHECKPOINT_VERSION = 1
@@ -74,6 +76,26 @@ _CONTINUOUS_STAGES = 10  # acceptance is reported over tenths of a run without e
 # over the last 30% of the run (acceptance < 1e-3), in about 15 s of one core
 # (benchmarks/bench_montecarlo.py).
 DEFAULT_SWEEPS = 10_000
+
+
+@dataclass
+class AnnealState:
+    """Where an annealing run stands: a value, picklable, what a checkpoint holds on disk.
+
+    ``done``: record blocks completed; ``particles``: the sites of every particle; ``rng_state``:
+    the kernel's ``std::mt19937_64`` (the run's only random stream, seeded by ``seed``);
+    ``deformation``: the running sum of cluster energies; ``counters``: the kernel's counters;
+    ``energy_trace`` and ``accepted``: per completed block; ``elapsed``: seconds spent so far.
+    Pass it to ``anneal(..., state=)`` (with the run's parameters) to continue the run."""
+
+    done: int
+    particles: np.ndarray = field(repr=False)
+    rng_state: str = field(repr=False)
+    deformation: float
+    counters: dict = field(repr=False)
+    energy_trace: np.ndarray = field(repr=False)
+    accepted: np.ndarray = field(repr=False)
+    elapsed: float = 0.0
 
 
 @dataclass
@@ -135,7 +157,9 @@ class AnnealResult(BoxState):
     elapsed : float
         Wall time of this call, seconds.
     resumed : bool
-        Whether the run started from a checkpoint.
+        Whether the run started from a checkpoint or a given state.
+    state : AnnealState
+        Where the run stands at the end (to continue it: ``anneal(..., state=result.state)``).
     """
 
     steps: np.ndarray = field(repr=False)
@@ -150,6 +174,7 @@ class AnnealResult(BoxState):
     elapsed: float = 0.0
     resumed: bool = False
     tiling: str = "hexagon"
+    state: AnnealState = field(default=None, repr=False)
 
     @property
     def cache_hit_rate(self) -> float:
@@ -267,11 +292,20 @@ def _particle_signature(particle) -> dict:
     return params
 
 
+def read_checkpoint(path, signature=None) -> AnnealState:
+    """The ``AnnealState`` an ``anneal`` checkpoint holds; with ``signature`` (a run's defining
+    parameters), refused when it was written by a run with other parameters."""
+    data = _read_checkpoint(path, signature)
+    return AnnealState(**{f.name: data[f.name] for f in dataclasses.fields(AnnealState)})
+
+
 def _read_checkpoint(path, signature):
     with open(path, "rb") as f:
         data = pickle.load(f)
     if not isinstance(data, dict) or data.get("version") != _CHECKPOINT_VERSION:
         raise ValueError(f"checkpoint: {path} is not a pyfrustrate.anneal checkpoint (version {_CHECKPOINT_VERSION})")
+    if signature is None:
+        return data
     saved = dict(data["signature"])
     saved.setdefault("cluster_moves", 0.0)  # checkpoints written before cluster moves existed
     differ = sorted(k for k in set(saved) | set(signature) if saved.get(k) != signature.get(k))
@@ -288,7 +322,7 @@ def _read_checkpoint(path, signature):
 def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None, method="lbfgs", tol=1e-3,
            checkpoint=None, progress=True, *, T0=None, T_end=None, record_every=None, checkpoint_interval=60.0,
            cache=True, warm_start=True, delayed_acceptance=True, cluster_moves=0.0, max_iter=100_000,
-           callback=None) -> AnnealResult:
+           callback=None, state=None) -> AnnealResult:
     """Simulated annealing of the topology of ``n`` particles in a periodic ``box x box`` lattice.
 
     Parameters
@@ -356,6 +390,9 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     callback : callable or None
         Called after every chunk of blocks as ``callback(steps_done, total_steps, energy)``; an
         exception raised there stops the run after saving the checkpoint.
+    state : AnnealState or None
+        Continue from this state (a run's ``result.state``, or ``read_checkpoint``), with the
+        same parameters; it is not modified. Takes precedence over an existing checkpoint file.
 
     Returns
     -------
@@ -413,27 +450,33 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
                             cluster_moves=cluster_moves)
     energies, accepted = [], []
     done, elapsed_before, resumed = 0, 0.0, False
-    if checkpoint is not None and os.path.exists(checkpoint):
-        data = _read_checkpoint(checkpoint, signature)
-        mc.place(data["particles"])
-        mc.rng_state = data["rng_state"]
-        mc.set_deformation(data["deformation"])
-        mc.counters = data["counters"]
-        energies, accepted = list(data["energy_trace"]), list(data["accepted"])
-        done, elapsed_before, resumed = data["done"], data["elapsed"], True
+    if state is None and checkpoint is not None and os.path.exists(checkpoint):
+        state = read_checkpoint(checkpoint, signature)
+    if state is not None:
+        if not isinstance(state, AnnealState):
+            raise ValueError(f"state must be an AnnealState, got {type(state).__name__}")
+        if not 0 <= state.done <= len(temps) or len(state.energy_trace) != state.done:
+            raise ValueError(f"state: {state.done} blocks done does not fit this run's {len(temps)} blocks")
+        mc.place(state.particles)
+        mc.rng_state = state.rng_state
+        mc.set_deformation(state.deformation)
+        mc.counters = dict(state.counters)
+        energies, accepted = list(state.energy_trace), list(state.accepted)
+        done, elapsed_before, resumed = int(state.done), float(state.elapsed), True
 
     start = time.perf_counter()
 
     def snapshot():
-        return dict(done=done, particles=np.asarray(mc.particles), rng_state=mc.rng_state,
-                    deformation=mc.deformation, counters=mc.counters,
-                    elapsed=elapsed_before + time.perf_counter() - start)
+        return AnnealState(done=done, particles=np.asarray(mc.particles), rng_state=mc.rng_state,
+                           deformation=mc.deformation, counters=mc.counters,
+                           energy_trace=np.asarray(energies[:done], float),
+                           accepted=np.asarray(accepted[:done], np.int64),
+                           elapsed=elapsed_before + time.perf_counter() - start)
 
-    def save(state, complete=False):
-        d = state["done"]
-        _write_atomically(checkpoint, dict(state, version=_CHECKPOINT_VERSION, signature=signature, params=params,
-                                           energy_trace=np.asarray(energies[:d]), accepted=np.asarray(accepted[:d]),
-                                           complete=complete))
+    def save(snap, complete=False):
+        # On disk the checkpoint is the state's fields, with what identifies the run.
+        _write_atomically(checkpoint, dict(dataclasses.asdict(snap), version=_CHECKPOINT_VERSION,
+                                           signature=signature, params=params, complete=complete))
 
     last = snapshot()
     if done < len(temps):
@@ -485,7 +528,7 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
                         stage_acceptance=stage_acceptance,
                         acceptance=float(accepted.sum() / max(1, total_steps)), counters=counters, seed=seed,
                         params=params, elapsed=time.perf_counter() - start, resumed=resumed,
-                        tiling=particle.tiling)
+                        tiling=particle.tiling, state=last)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -399,6 +399,34 @@ def test_checkpoint_resume_equals_uninterrupted(particle, g, tmp_path, cluster_m
         small_anneal(particle, g, checkpoint=str(path), **dict(kw, cluster_moves=0.5))
 
 
+def test_state_from_a_checkpoint_continues_the_run(particle, g, tmp_path):
+    """The state is a value: read from an interrupted run's checkpoint and passed in, it gives the
+    uninterrupted run; it is not modified; a state of another run's length is refused."""
+    from pyfrustrate.montecarlo import AnnealState, read_checkpoint
+    kw = dict(box=10, n=20, steps=20 * 40, seed=5, record_every=20)
+    ref = small_anneal(particle, g, **kw)
+    assert isinstance(ref.state, AnnealState) and ref.state.done == 40
+    path = tmp_path / "run.ckpt"
+
+    def stop(done, total, energy):
+        if done >= 20 * 15:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        small_anneal(particle, g, checkpoint=str(path), callback=stop, **kw)
+    state = read_checkpoint(str(path))
+    assert 15 <= state.done < 40 and len(state.energy_trace) == state.done
+    before = (state.done, state.rng_state, state.particles.copy())
+    continued = small_anneal(particle, g, state=state, **kw)
+    assert continued.resumed and np.array_equal(continued.sites, ref.sites)
+    assert np.array_equal(continued.energy_trace, ref.energy_trace) and continued.energy == ref.energy
+    assert (state.done, state.rng_state) == before[:2] and np.array_equal(state.particles, before[2])
+    with pytest.raises(ValueError, match="state"):
+        small_anneal(particle, g, state=state, **dict(kw, steps=20 * 10))
+    with pytest.raises(ValueError, match="state"):
+        small_anneal(particle, g, state={"done": 0}, **kw)
+
+
 @pytest.mark.parametrize("kw,name", [
     (dict(n=145), "n"), (dict(n=144), "n"), (dict(n=0), "n"), (dict(box=1, n=1), "box"),
     (dict(box=2.5), "box"), (dict(T0=-1.0), "T0"), (dict(schedule=[(-1.0, 10)], steps=None), "schedule"),
