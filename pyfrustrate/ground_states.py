@@ -175,3 +175,26 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int = 4, method: 
     family, deformation, bonds, sites, converged = zip(*rows)
     return BoxCandidates(n, box, np.array(family), np.array(deformation, float), np.array(bonds, int),
                          tuple(np.asarray(s, int) for s in sites), np.array(converged, bool))
+
+
+def structure(sites, box, major: float = 0.1) -> str:
+    """The structure of a box configuration in the terms of ``box_candidates``' families, from
+    its clusters alone (no anisotropy threshold): ``"gas"`` (no cluster of 3 or more),
+    ``"bulk"`` (a cluster wraps the box both ways), ``"wrapping_fiber"`` (one way), ``"single"``
+    (one cluster holds all but ``major`` of the particles), else ``"aggregates{m}"`` with ``m``
+    the clusters holding at least ``major`` of them each (``"aggregates1"``: one such cluster
+    and many small ones)."""
+    from .montecarlo import clusters
+    parts = clusters(np.asarray(sites, int), int(box))
+    n = sum(len(c) for c, _ in parts)
+    sizes = np.array([len(c) for c, _ in parts])
+    ranks = np.array([rank for _, rank in parts])
+    if sizes.max() < 3:
+        return "gas"
+    if (ranks == 2).any():
+        return "bulk"
+    if (ranks == 1).any():
+        return "wrapping_fiber"
+    if sizes.max() >= (1 - major) * n:
+        return "single"
+    return f"aggregates{int((sizes >= major * n).sum())}"

@@ -63,3 +63,10 @@ def test_a_box_too_small_for_the_gas_has_no_gas_candidate(particle):
 def test_bad_input(particle, n, box, message):
     with pytest.raises(ValueError, match=message):
         box_candidates(particle, n, box)
+
+
+def test_structure_of_each_candidate_is_its_family(candidates):
+    # The candidates are built family by family; the structure is read from clusters alone.
+    from pyfrustrate.ground_states import structure
+    for family, sites in zip(candidates.family, candidates.sites):
+        assert structure(sites, candidates.box) == family

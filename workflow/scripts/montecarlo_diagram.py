@@ -3,11 +3,12 @@ its largest final aggregate (montecarlo.classify_aggregate), and its comparison 
 finite-size prediction: the final energy above the best single aggregate of the same n
 (ansatz.finite_aggregates), whether that best aggregate is elongated, and the final energy above
 the box's predicted ground state (the best of ground_states.box_candidates: single aggregates, a
-wrapping fibre, several aggregates, the gas) with that ground state's family."""
+wrapping fibre, several aggregates, the gas) with that ground state's family, and the run's own
+structure in those terms (ground_states.structure, from its clusters)."""
 import numpy as np
 
 from pyfrustrate.ansatz import FiniteAggregates, energy_above_best_single
-from pyfrustrate.ground_states import BoxCandidates
+from pyfrustrate.ground_states import BoxCandidates, structure
 from pyfrustrate.io import load_npz, logging_to, save_npz
 from pyfrustrate.montecarlo import ELONGATION_THRESHOLD, classify_aggregate
 
@@ -38,12 +39,14 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         e_bulk = float(prediction["bulk_energy_per_particle"])
         gap_ground = (float(r["energy"]) - float(candidates.best_energy(g))) / e_bulk
         ground = str(candidates.best_family(g))
-        rows.append((nu, Gamma, kind, size, n, gap, single, gap_ground, ground))
+        found = structure(r["sites"], int(r["box"]))
+        rows.append((nu, Gamma, kind, size, n, gap, single, gap_ground, ground, found))
         print(f"nu={nu:g} Gamma={Gamma:g}: {kind} (largest cluster {size} of {n}); "
               f"{gap:+.1f} bulk particle energies above the best single aggregate ({single}), "
-              f"{gap_ground:+.1f} above the box's ground state ({ground})")
-    nu, Gamma, kind, size, n, gap, single, gap_ground, ground = (np.array(c) for c in zip(*rows))
+              f"{gap_ground:+.1f} above the box's ground state ({ground}); the run's structure: {found}")
+    nu, Gamma, kind, size, n, gap, single, gap_ground, ground, found = (np.array(c) for c in zip(*rows))
     save_npz(snakemake.output[0], nu=nu, Gamma=Gamma, kind=kind.astype(str), size=size, n=n,  # noqa: F821
              gap=gap, single_kind=single.astype(str), gap_ground=gap_ground, ground_family=ground.astype(str),
+             structure=found.astype(str),
              elongation_threshold=ELONGATION_THRESHOLD,
              finite_nu=np.array(finite_nu), finite_Gamma=finite_Gamma, finite_elongated=np.array(finite_elongated))
