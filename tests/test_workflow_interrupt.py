@@ -1,0 +1,65 @@
+"""The figures command after a hard kill (SIGKILL: an OOM kill, a lost node, a pre-empted job):
+running the same command again must resume, not stop on Snakemake's stale lock.
+
+Runs the real command (scripts/figures.sh) on a copy of the repository with the test's own
+environment (the package is installed from identical sources, so set-up rebuilds nothing), on
+the cheapest target, killed while its job runs."""
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+TARGET = "results/chain/profiles.npz"
+
+
+PARTS = ("workflow", "config", "figures", "scripts", "kernel", "pyfrustrate", "pyproject.toml", "CMakeLists.txt")
+
+
+def repository_copy(dest):
+    """The parts of the repository the figures command reads; skips the test when the installed
+    package was not built from these sources (set-up would then rebuild it from the copy)."""
+    for part in PARTS:
+        src = ROOT / part
+        if src.is_dir():
+            shutil.copytree(src, dest / part, ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+        else:
+            shutil.copy2(src, dest / part)
+    same_as_setup = "cat pyproject.toml CMakeLists.txt kernel/* pyfrustrate/*.py | sha256sum"  # scripts/setup.sh
+    source_hash = subprocess.run(["bash", "-c", same_as_setup], cwd=dest, capture_output=True, text=True,
+                                 check=True).stdout.split()[0]
+    stamp = Path(sys.prefix) / ".pyfrustrate-source-hash"
+    if not stamp.exists() or stamp.read_text().strip() != source_hash:
+        pytest.skip("the installed package is not built from these sources (run scripts/setup.sh)")
+    return dest
+
+
+@pytest.mark.skipif(not Path("/proc/self/cwd").exists() or shutil.which("pgrep") is None,
+                    reason="needs /proc and pgrep (Linux)")
+@pytest.mark.skipif(not (Path(sys.prefix) / "bin" / "snakemake").exists(), reason="snakemake not installed")
+def test_figures_command_resumes_after_sigkill(tmp_path):
+    repo = repository_copy(tmp_path / "repo")
+    env = dict(os.environ, PYFRUSTRATE_VENV=sys.prefix, CORES="1")
+    command = ["bash", "scripts/figures.sh", TARGET]
+    run = subprocess.Popen(command, cwd=repo, env=env, start_new_session=True, stdout=subprocess.DEVNULL,
+                           stderr=subprocess.DEVNULL)
+    log = repo / "results" / "logs" / "chain_profiles.log"
+    deadline = time.monotonic() + 240
+    while not log.exists() and run.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)
+    if run.poll() is not None:
+        pytest.fail(f"the first run ended (code {run.returncode}) before its job started")
+    os.killpg(run.pid, signal.SIGKILL)
+    run.wait()
+    assert list((repo / ".snakemake" / "locks").iterdir()), "a SIGKILL leaves Snakemake's lock behind"
+    again = subprocess.run(command, cwd=repo, env=env, capture_output=True, text=True, timeout=600)
+    assert again.returncode == 0, again.stderr[-2000:]
+    assert "stale Snakemake lock" in again.stdout
+    with np.load(repo / TARGET) as data:
+        assert len(data.files) > 0
