@@ -308,11 +308,16 @@ def _read_checkpoint(path, signature):
         return data
     saved = dict(data["signature"])
     saved.setdefault("cluster_moves", 0.0)  # checkpoints written before cluster moves existed
+    _check_signature(path, saved, signature)
+    return data
+
+
+def _check_signature(path, saved, signature):
+    """Refuse a checkpoint written by a run whose defining parameters differ, naming them."""
     differ = sorted(k for k in set(saved) | set(signature) if saved.get(k) != signature.get(k))
     if differ:
         raise ValueError(f"checkpoint: {path} was written by a run with different parameters ({', '.join(differ)}); "
                          "delete it or pass another path")
-    return data
 
 
 # ---------------------------------------------------------------------------------------------

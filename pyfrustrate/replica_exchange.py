@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _kernel
-from .montecarlo import BoxState, _integer, _particle_signature, _write_atomically
+from .montecarlo import BoxState, _check_signature, _integer, _non_negative, _particle_signature, _write_atomically
 from .relaxation import METHODS
 from .topology import tiling_facts
 
@@ -169,12 +169,7 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
     n = _integer("n", n, 1)
     if n >= box * box * tiling["sublattices"]:
         raise ValueError(f"n must be smaller than the box's {box * box * tiling['sublattices']} sites, got {n}")
-    try:
-        g = float(g)
-    except (TypeError, ValueError):
-        raise ValueError(f"g must be a number, got {g!r}") from None
-    if not (math.isfinite(g) and g >= 0):
-        raise ValueError(f"g must be non-negative and finite, got {g!r}")
+    g = _non_negative("g", g)
     rounds = _integer("rounds", rounds, 0)
     exchange_every = n if exchange_every is None else _integer("exchange_every", exchange_every, 1)
     quench_sweeps = _integer("quench_sweeps", quench_sweeps, 0)
@@ -319,8 +314,5 @@ def _read_checkpoint(path, signature) -> ReplicaState:
         data = pickle.load(f)
     if not isinstance(data, dict) or data.get("version") != _CHECKPOINT_VERSION or "state" not in data:
         raise ValueError(f"checkpoint: {path} is not a replica-exchange checkpoint (version {_CHECKPOINT_VERSION})")
-    differ = sorted(k for k in set(data["signature"]) | set(signature) if data["signature"].get(k) != signature.get(k))
-    if differ:
-        raise ValueError(f"checkpoint: {path} was written by a run with different parameters ({', '.join(differ)}); "
-                         "delete it or pass another path")
+    _check_signature(path, data["signature"], signature)
     return data["state"]
