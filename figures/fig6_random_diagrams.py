@@ -81,5 +81,5 @@ def main(paths, edges, outputs):
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main(snakemake.input.groups, snakemake.params.settings["ell_groups"],  # noqa: F821
+        main(snakemake.input.groups, snakemake.params.ell_groups,  # noqa: F821
              [snakemake.output.pdf, snakemake.output.png])  # noqa: F821

@@ -43,5 +43,5 @@ def main(summary_path, selection_path, edges, outputs):
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main(snakemake.input.summary, snakemake.input.selection, snakemake.params.settings["ell_groups"],  # noqa: F821
+        main(snakemake.input.summary, snakemake.input.selection, snakemake.params.ell_groups,  # noqa: F821
              [snakemake.output.pdf, snakemake.output.png])  # noqa: F821

@@ -7,7 +7,9 @@ rule ansatz_catalogue:
         ell=lambda w: float(w.ell),
         nu=lambda w: float(w.nu),
         tiling="hexagon",
-        settings=ANSATZ,
+        **pick(ANSATZ, "eps", "method", "tol", "radius_per_ell", "width_per_ell", "min_radius", "min_width"),
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/ansatz/catalogue_ell{ell}_nu{nu}.log",
     script:
@@ -22,7 +24,9 @@ rule ansatz_diagram:
     params:
         ell=lambda w: float(w.ell),
         nu=DIAGRAM_NU,
-        settings=ANSATZ,
+        **pick(ANSATZ, "Gamma_max", "Gamma_count"),
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/ansatz/diagram_ell{ell}.log",
     script:
@@ -36,7 +40,9 @@ rule ansatz_sizes:
     output:
         "results/ansatz/sizes.npz",
     params:
-        settings=ANSATZ,
+        **pick(ANSATZ, "size_Gamma_max", "size_Gamma_count", "size_ells", "fiber_nu", "disk_nu"),
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/ansatz/sizes.log",
     script:
@@ -47,7 +53,9 @@ rule ansatz_line_tension:
     output:
         "results/ansatz/line_tension.json",
     params:
-        settings=ANSATZ,
+        **pick(ANSATZ, "edge_ells", "edge_nu", "edge_eps"),
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/ansatz/line_tension.log",
     script:
@@ -57,6 +65,10 @@ rule ansatz_line_tension:
 rule ansatz_shapes:
     output:
         "results/ansatz/shapes.npz",
+    params:
+        **pick(ANSATZ, "drawing_ell", "drawing_nu", "drawing_eps"),
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/ansatz/shapes.log",
     script:
@@ -75,6 +87,8 @@ rule fig3b_ansatz:
     output:
         pdf=f"{FIGURES}/fig3b_ansatz.pdf",
         png=f"{FIGURES}/fig3b_ansatz.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/fig3b_ansatz.log",
     script:
@@ -94,6 +108,8 @@ rule figX_fig3b_supplement_convention:
     output:
         pdf=f"{FIGURES}/figX_fig3b_supplement_convention.pdf",
         png=f"{FIGURES}/figX_fig3b_supplement_convention.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/figX_fig3b_supplement_convention.log",
     script:
@@ -107,6 +123,8 @@ rule figS1_ansatz:
     output:
         pdf=f"{FIGURES}/figS1_ansatz.pdf",
         png=f"{FIGURES}/figS1_ansatz.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/figS1_ansatz.log",
     script:
@@ -119,6 +137,8 @@ rule fig4a_catalogue:
     output:
         pdf=f"{FIGURES}/fig4a_catalogue.pdf",
         png=f"{FIGURES}/fig4a_catalogue.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/fig4a_catalogue.log",
     script:
@@ -131,6 +151,8 @@ rule fig4b_sizes:
     output:
         pdf=f"{FIGURES}/fig4b_sizes.pdf",
         png=f"{FIGURES}/fig4b_sizes.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/fig4b_sizes.log",
     script:

@@ -6,6 +6,8 @@ rule speed_accuracy:
     params:
         quick="--quick" if config["speed_accuracy"]["quick"] else "",
         python=sys.executable,
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/speed_accuracy.log",
     shell:
@@ -18,6 +20,8 @@ rule fig_speed_accuracy:
     output:
         pdf=f"{FIGURES}/figX_speed_accuracy.pdf",
         png=f"{FIGURES}/figX_speed_accuracy.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/fig_speed_accuracy.log",
     script:

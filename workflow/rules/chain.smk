@@ -2,7 +2,9 @@ rule chain_profiles:
     output:
         "results/chain/profiles.npz",
     params:
-        settings=config["chain"],
+        **config["chain"],  # the chain script uses every key of its section
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/chain_profiles.log",
     script:
@@ -15,6 +17,8 @@ rule fig1_chain:
     output:
         pdf=f"{FIGURES}/fig1_chain.pdf",
         png=f"{FIGURES}/fig1_chain.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/fig1_chain.log",
     script:

@@ -1,3 +1,15 @@
+def pick(section, *keys):
+    """The named entries of a config section, for a rule's params: each rule gets exactly the
+    values its script uses, so that changing a key reruns only the jobs that read it."""
+    return {key: section[key] for key in keys}
+
+
+def per_box(section, key):
+    """A Monte Carlo run's value of ``key`` for its box kind (the wildcard ``kind``): the sparse
+    runs read ``key``, the dense and large ones ``dense_key`` and ``large_key``."""
+    return lambda w: section[key if w.kind.startswith("sparse") else f"{w.kind.split('_')[0]}_{key}"]
+
+
 # Names shared by the rules: the nu grid of the ansatz diagrams and the catalogue file of a particle.
 ANSATZ = config["ansatz"]
 DIAGRAM_NU = sorted({round(min(float(x), ANSATZ["nu_max"]), 4) for x in np.linspace(0, 1, ANSATZ["nu_count"])})
@@ -47,6 +59,12 @@ def mc_finite_size_files():
     return sorted({mc_run_file(*r) for r in runs})
 
 
+def finite_aggregate_files():
+    """The finite-size predictions figX_mc_finite_size compares its runs with."""
+    nus = {MC["fiber_scan_nu"], *MC["large_nu_scan_nu"]}
+    return [finite_aggregate_file(n, nu) for n in (MC["n"], MC["large_n"]) for nu in sorted(nus)]
+
+
 # Triangular particles (Fig. S6): settings, the nu grid of their diagram, their files.
 TRIANGLE = config["triangle"]
 TRIANGLE_MC = dict(TRIANGLE["montecarlo"], ell=TRIANGLE["ell"], eps=TRIANGLE["eps"])
@@ -63,3 +81,14 @@ def triangle_run_files():
     runs = [("sparse", m["top_nu"], G) for G in m["top_Gamma"]]
     runs += [("dense", m["bottom_nu"], G) for G in m["bottom_Gamma"]]
     return [f"results/triangle/runs/{kind}_nu{float(nu):g}_G{float(G):g}.npz" for kind, nu, G in runs]
+
+
+# Random-elasticity particles: the sample is drawn in batches; the aggregation diagrams of the
+# selected particles (the 'sizes' set and one set per ell group) are computed a batch per job.
+RANDOM = config["random"]
+RANDOM_BATCHES = range(-(-RANDOM["draws"] // RANDOM["batch"]))
+RANDOM_SETS = {"sizes": RANDOM["size_particles"]} | {f"group{i}": c for i, c in enumerate(RANDOM["group_counts"])}
+
+
+def random_diagram_files(name):
+    return [f"results/random/diagrams/{name}_{b}.npz" for b in range(-(-RANDOM_SETS[name] // RANDOM["diagram_batch"]))]

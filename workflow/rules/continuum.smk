@@ -2,7 +2,9 @@ rule continuum_phase_diagram:
     output:
         "results/continuum/phase_diagram.npz",
     params:
-        settings=config["continuum"],
+        **config["continuum"],  # every key of the section is used
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/continuum_phase_diagram.log",
     script:
@@ -15,6 +17,8 @@ rule fig3a_continuum:
     output:
         pdf=f"{FIGURES}/fig3a_continuum.pdf",
         png=f"{FIGURES}/fig3a_continuum.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/fig3a_continuum.log",
     script:

@@ -2,7 +2,9 @@ rule hexagon_aggregates:
     output:
         "results/hexagon/aggregates.npz",
     params:
-        settings=config["hexagon_figure"],
+        **config["hexagon_figure"],  # every key of the section is used
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/hexagon_aggregates.log",
     script:
@@ -15,6 +17,8 @@ rule fig2_hexagon:
     output:
         pdf=f"{FIGURES}/fig2_hexagon.pdf",
         png=f"{FIGURES}/fig2_hexagon.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/fig2_hexagon.log",
     script:

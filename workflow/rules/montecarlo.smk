@@ -11,10 +11,16 @@ rule montecarlo_run:
         convention=lambda w: w.kind.split("_")[1] if "_" in w.kind else "measured",
         tiling="hexagon",
         checkpoint_stem=lambda w: f"results/montecarlo/checkpoints/{w.kind}_nu{w.nu}_G{w.Gamma}_seed{w.seed}",
-        settings=MC,
+        n=per_box(MC, "n"),
+        box=per_box(MC, "box"),
+        method=per_box(MC, "method"),
+        sweeps=per_box(MC, "sweeps"),
+        **pick(MC, "ell", "eps", "tol", "cluster_moves"),
     wildcard_constraints:
         kind="sparse|dense|large|sparse_supplement|dense_supplement",
         seed=r"\d+",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/montecarlo/{kind}_nu{nu}_G{Gamma}_seed{seed}.log",
     script:
@@ -27,6 +33,8 @@ rule montecarlo_diagram:
         finite=[finite_aggregate_file(MC["n"], nu) for nu in MC["diagram_nu"]],
     output:
         "results/montecarlo/diagram.npz",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/montecarlo/diagram.log",
     script:
@@ -41,6 +49,8 @@ rule figX_mc_diagram:
     output:
         pdf=f"{FIGURES}/figX_mc_diagram.pdf",
         png=f"{FIGURES}/figX_mc_diagram.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/figX_mc_diagram.log",
     script:
@@ -57,16 +67,13 @@ rule montecarlo_finite_aggregates:
         nu=lambda w: float(w.nu),
         # The box each particle number runs in (candidate ground states of that box).
         box=lambda w: {MC["n"]: MC["box"], MC["large_n"]: MC["large_box"], MC["dense_n"]: MC["dense_box"]}[int(w.n)],
-        settings=MC,
+        **pick(MC, "ell", "eps", "finite_Gamma_count", "finite_Gamma_max"),
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/montecarlo/finite_n{n}_nu{nu}.log",
     script:
         "../scripts/montecarlo_finite_aggregates.py"
-
-
-def finite_aggregate_files():
-    nus = {MC["fiber_scan_nu"], *MC["large_nu_scan_nu"]}
-    return [finite_aggregate_file(n, nu) for n in (MC["n"], MC["large_n"]) for nu in sorted(nus)]
 
 
 rule figX_mc_finite_size:
@@ -76,6 +83,8 @@ rule figX_mc_finite_size:
     output:
         pdf=f"{FIGURES}/figX_mc_finite_size.pdf",
         png=f"{FIGURES}/figX_mc_finite_size.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/figX_mc_finite_size.log",
     script:

@@ -2,14 +2,7 @@
 # in batches (matrix i depends only on the seed and i, so batches are independent jobs); a
 # summary and a selection are made from all of them; aggregation diagrams are computed for the
 # selected particles, a batch per job.
-RANDOM = config["random"]
-RANDOM_BATCHES = range(-(-RANDOM["draws"] // RANDOM["batch"]))
-RANDOM_SETS = {"sizes": RANDOM["size_particles"]} | {f"group{i}": c for i, c in enumerate(RANDOM["group_counts"])}
-
-
-def random_diagram_files(name):
-    return [f"results/random/diagrams/{name}_{b}.npz" for b in range(-(-RANDOM_SETS[name] // RANDOM["diagram_batch"]))]
-
+# Names shared with other rules (RANDOM, RANDOM_BATCHES, the diagram files) live in common.smk.
 
 rule random_sample_batch:
     output:
@@ -17,7 +10,9 @@ rule random_sample_batch:
     params:
         start=lambda w: int(w.batch) * RANDOM["batch"],
         size=lambda w: min(RANDOM["batch"], RANDOM["draws"] - int(w.batch) * RANDOM["batch"]),
-        settings=RANDOM,
+        seed=RANDOM["seed"],
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/random/sample_batch{batch}.log",
     script:
@@ -31,7 +26,9 @@ rule random_summary:
         summary="results/random/summary.npz",
         selection="results/random/selection.npz",
     params:
-        settings=RANDOM,
+        **pick(RANDOM, "seed", "plotted", "size_particles", "ell_groups", "group_counts", "nu_bins"),
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/random/summary.log",
     script:
@@ -44,7 +41,9 @@ rule random_fits:
     output:
         "results/random/fits.npz",
     params:
-        settings=RANDOM,
+        **pick(RANDOM, "seed", "fits", "fit_eps", "fit_strip_width", "fit_example_ell"),
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/random/fits.log",
     script:
@@ -58,9 +57,11 @@ rule random_diagram_batch:
         "results/random/diagrams/{set}_{batch}.npz",
     params:
         batch=lambda w: int(w.batch),
-        settings=RANDOM,
+        **pick(RANDOM, "seed", "eps", "diagram_batch", "Gamma_max", "Gamma_count"),
     wildcard_constraints:
         set="sizes|group[0-9]+",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/random/diagram_{set}_{batch}.log",
     script:
@@ -75,6 +76,8 @@ rule fig5_random:
     output:
         pdf=f"{FIGURES}/fig5_random.pdf",
         png=f"{FIGURES}/fig5_random.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/fig5_random.log",
     script:
@@ -87,6 +90,8 @@ rule figS2_random_sizes:
     output:
         pdf=f"{FIGURES}/figS2_random_sizes.pdf",
         png=f"{FIGURES}/figS2_random_sizes.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/figS2_random_sizes.log",
     script:
@@ -100,7 +105,9 @@ rule fig6_random_diagrams:
         pdf=f"{FIGURES}/fig6_random_diagrams.pdf",
         png=f"{FIGURES}/fig6_random_diagrams.png",
     params:
-        settings=RANDOM,
+        ell_groups=RANDOM["ell_groups"],
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/fig6_random_diagrams.log",
     script:
@@ -115,7 +122,9 @@ rule figS3_random_histograms:
         pdf=f"{FIGURES}/figS3_random_histograms.pdf",
         png=f"{FIGURES}/figS3_random_histograms.png",
     params:
-        settings=RANDOM,
+        ell_groups=RANDOM["ell_groups"],
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/figS3_random_histograms.log",
     script:
@@ -128,6 +137,8 @@ rule figS5_ell_eigen:
     output:
         pdf=f"{FIGURES}/figS5_ell_eigen.pdf",
         png=f"{FIGURES}/figS5_ell_eigen.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/figS5_ell_eigen.log",
     script:
@@ -138,6 +149,8 @@ rule figS4_pseudo_moduli:
     output:
         pdf=f"{FIGURES}/figS4_pseudo_moduli.pdf",
         png=f"{FIGURES}/figS4_pseudo_moduli.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/figS4_pseudo_moduli.log",
     script:
@@ -155,6 +168,8 @@ rule random_ell_definitions:
         depths=RANDOM["ell_study"]["depths"],
         eps=RANDOM["ell_study"]["eps"],
         min_shares=RANDOM["ell_study"]["min_shares"],
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/random/ell_definitions.log",
     script:
@@ -170,6 +185,8 @@ rule figX_ell_definitions:
         png=f"{FIGURES}/figX_ell_definitions.png",
     params:
         ell_groups=RANDOM["ell_groups"],
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/figX_ell_definitions.log",
     script:

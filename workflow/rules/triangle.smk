@@ -9,7 +9,9 @@ rule triangle_catalogue:
         ell=lambda w: float(w.ell),
         nu=lambda w: float(w.nu),
         tiling="triangle",
-        settings=TRIANGLE,
+        **pick(TRIANGLE, "eps", "method", "tol", "radius_per_ell", "width_per_ell", "min_radius", "min_width"),
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/triangle/catalogue_ell{ell}_nu{nu}.log",
     script:
@@ -24,7 +26,9 @@ rule triangle_diagram:
     params:
         ell=lambda w: float(w.ell),
         nu=TRIANGLE_NU,
-        settings=TRIANGLE,
+        **pick(TRIANGLE, "Gamma_max", "Gamma_count"),
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/triangle/diagram_ell{ell}.log",
     script:
@@ -42,9 +46,15 @@ rule triangle_montecarlo_run:
         convention="measured",
         tiling="triangle",
         checkpoint_stem=lambda w: f"results/triangle/checkpoints/{w.kind}_nu{w.nu}_G{w.Gamma}",
-        settings=TRIANGLE_MC,
+        n=per_box(TRIANGLE_MC, "n"),
+        box=per_box(TRIANGLE_MC, "box"),
+        method=per_box(TRIANGLE_MC, "method"),
+        sweeps=per_box(TRIANGLE_MC, "sweeps"),
+        **pick(TRIANGLE_MC, "ell", "eps", "tol", "cluster_moves"),
     wildcard_constraints:
         kind="sparse|dense",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/triangle/{kind}_nu{nu}_G{Gamma}.log",
     script:
@@ -56,8 +66,10 @@ rule triangle_shapes:
         "results/triangle/shapes.npz",
     params:
         ell=TRIANGLE["ell"],
-        nu=0.5,
+        nu=TRIANGLE["drawing_nu"],
         eps=TRIANGLE["drawing_eps"],
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/triangle/shapes.log",
     script:
@@ -69,11 +81,13 @@ rule figS6_triangle:
         shapes=rules.triangle_shapes.output[0],
         diagram=f"results/triangle/diagram_ell{TRIANGLE['ell']:g}.npz",
         continuum=rules.continuum_phase_diagram.output,
-        catalogue=triangle_catalogue_file(TRIANGLE["ell"], 0.5),
+        catalogue=triangle_catalogue_file(TRIANGLE["ell"], TRIANGLE["drawing_nu"]),
         snapshots=triangle_run_files(),
     output:
         pdf=f"{FIGURES}/figS6_triangle.pdf",
         png=f"{FIGURES}/figS6_triangle.png",
+    conda:
+        "../envs/pyfrustrate.yaml"
     log:
         "results/logs/figS6_triangle.log",
     script:

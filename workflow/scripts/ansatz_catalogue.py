@@ -6,7 +6,7 @@ from pyfrustrate import ansatz
 from pyfrustrate.io import logging_to, save_npz
 from pyfrustrate.particles import particle_class
 
-s = snakemake.params.settings  # noqa: F821
+s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 ell, nu, tiling = snakemake.params.ell, snakemake.params.nu, snakemake.params.tiling  # noqa: F821
 with logging_to(snakemake.log[0]):  # noqa: F821
     particle = particle_class(tiling).from_continuum(ell, nu, eps=s["eps"])

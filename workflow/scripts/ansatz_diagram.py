@@ -6,7 +6,7 @@ from pyfrustrate import ansatz
 from pyfrustrate.io import load_npz, logging_to, save_npz
 from pyfrustrate.particles import particle_class
 
-s = snakemake.params.settings  # noqa: F821
+s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 ell, nus = snakemake.params.ell, snakemake.params.nu  # noqa: F821
 with logging_to(snakemake.log[0]):  # noqa: F821
     Gamma = np.linspace(0.0, s["Gamma_max"], s["Gamma_count"])

@@ -6,7 +6,7 @@ from pyfrustrate import Hexagon, relax, topology
 from pyfrustrate.io import logging_to, save_npz
 from pyfrustrate.relaxation import relaxed_drawing
 
-ELL, NU, EPS = 2.5, 0.5, 0.04
+ELL, NU, EPS = (snakemake.params[key] for key in ("drawing_ell", "drawing_nu", "drawing_eps"))  # noqa: F821
 with logging_to(snakemake.log[0]):  # noqa: F821
     particle = Hexagon.from_continuum(ELL, NU, eps=EPS)
     bulk_pp = relax(particle, topology.bulk()).energy_per_particle

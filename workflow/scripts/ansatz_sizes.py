@@ -6,9 +6,9 @@ import numpy as np
 from pyfrustrate import Hexagon, ansatz, continuum
 from pyfrustrate.io import load_npz, logging_to, save_npz
 
-s = snakemake.params.settings  # noqa: F821
+s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 with logging_to(snakemake.log[0]):  # noqa: F821
-    Gamma = np.linspace(0.0, s["size_Gamma_max"], 96)[1:]
+    Gamma = np.linspace(0.0, s["size_Gamma_max"], s["size_Gamma_count"] + 1)[1:]
     out = {"Gamma": Gamma, "ells": np.array(s["size_ells"], float)}
     kinds = {"fiber": ("fiber_nu", ["fiber_cut0", "fiber_cut1", "fiber_cut2"], continuum.optimal_width),
              "disk": ("disk_nu", ["single", "disk"], continuum.optimal_radius)}

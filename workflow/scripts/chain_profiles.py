@@ -5,7 +5,7 @@ import numpy as np
 from pyfrustrate import chain, continuum
 from pyfrustrate.io import logging_to, save_npz
 
-s = snakemake.params.settings  # noqa: F821 (provided by snakemake)
+s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 with logging_to(snakemake.log[0]):  # noqa: F821
     k, eps, n = s["k"], s["eps"], s["n"]
     profiles, exact = [], []

@@ -5,7 +5,7 @@ import numpy as np
 from pyfrustrate import continuum
 from pyfrustrate.io import logging_to, save_npz
 
-s = snakemake.params.settings  # noqa: F821
+s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 with logging_to(snakemake.log[0]):  # noqa: F821
     nu = np.linspace(0.0, 1.0, s["nu_count"])
     Gamma = np.linspace(0.0, s["Gamma_max"], s["Gamma_count"])

@@ -6,7 +6,7 @@ from pyfrustrate import Hexagon, relax, topology
 from pyfrustrate.io import logging_to, save_npz
 from pyfrustrate.relaxation import particle_corners, relaxed_drawing
 
-s = snakemake.params.settings  # noqa: F821
+s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 with logging_to(snakemake.log[0]):  # noqa: F821
     particle = Hexagon.from_continuum(s["ell"], s["nu"], eps=s["eps"])
     bulk_value = relax(particle, topology.bulk()).energy_per_particle

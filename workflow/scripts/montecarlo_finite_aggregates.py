@@ -8,19 +8,19 @@ import numpy as np
 from pyfrustrate import Hexagon, ansatz, ground_states
 from pyfrustrate.io import logging_to, save_npz
 
-s = snakemake.params.settings  # noqa: F821
+s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 n, nu, box = snakemake.params.n, snakemake.params.nu, snakemake.params.box  # noqa: F821
 with logging_to(snakemake.log[0]):  # noqa: F821
     particle = Hexagon.from_continuum(s["ell"], nu, eps=s["eps"])
     shapes = ansatz.finite_aggregates(particle, n)
-    Gamma = np.linspace(0.0, 1.6, s["finite_Gamma_count"])
+    Gamma = np.linspace(0.0, s["finite_Gamma_max"], s["finite_Gamma_count"])
     g = ansatz.binding_energy_of(particle, s["ell"], nu, Gamma)
     best = shapes.best(g)
     print(f"n={n} nu={nu}: {len(shapes.segment)} shapes, all converged: {bool(shapes.converged.all())}; "
-          f"best width {shapes.width[best].min():.1f}-{shapes.width[best].max():.1f} over Gamma in [0, 1.6]")
+          f"best width {shapes.width[best].min():.1f}-{shapes.width[best].max():.1f} over Gamma in [0, {s['finite_Gamma_max']:g}]")
     candidates = ground_states.box_candidates(particle, n, box)
     families = sorted(set(candidates.best_family(g).tolist()))
-    print(f"box {box}: {len(candidates.family)} candidate ground states; best over Gamma in [0, 1.6]: {families}")
+    print(f"box {box}: {len(candidates.family)} candidate ground states; best over Gamma in [0, {s['finite_Gamma_max']:g}]: {families}")
     save_npz(snakemake.output[0], n=n, nu=nu, ell=s["ell"], eps=s["eps"], Gamma=Gamma, g=g, best=best,  # noqa: F821
              segment=shapes.segment, sites=np.stack(shapes.sites), deformation=shapes.deformation,
              bonds=shapes.bonds, width=shapes.width, length=shapes.length, converged=shapes.converged,

@@ -13,27 +13,24 @@ from pyfrustrate import anneal, continuum
 from pyfrustrate.io import logging_to, save_npz
 from pyfrustrate.particles import particle_class
 
-s = snakemake.params.settings  # noqa: F821
-p = snakemake.params  # noqa: F821
+p = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 with logging_to(snakemake.log[0]):  # noqa: F821
-    particle = particle_class(p.tiling).from_continuum(s["ell"], p.nu, eps=s["eps"])
-    g = float(continuum.particle_parameters(s["ell"], p.nu, p.Gamma, eps=s["eps"], tiling=p.tiling,
+    particle = particle_class(p.tiling).from_continuum(p.ell, p.nu, eps=p.eps)
+    g = float(continuum.particle_parameters(p.ell, p.nu, p.Gamma, eps=p.eps, tiling=p.tiling,
                                             convention=p.convention).g)
-    Gamma_measured = float(continuum.mapping(particle.k, particle.kc, particle.k_area, g, s["eps"],
+    Gamma_measured = float(continuum.mapping(particle.k, particle.kc, particle.k_area, g, p.eps,
                                              tiling=p.tiling).Gamma)
-    prefix = "" if p.kind == "sparse" else f"{p.kind}_"
-    n, box, method, sweeps = (s[prefix + key] for key in ("n", "box", "method", "sweeps"))
-    cluster_moves = s["cluster_moves"]
+    n, box, method, sweeps, cluster_moves = p.n, p.box, p.method, p.sweeps, p.cluster_moves
     # Named by everything that defines the run, so a changed configuration starts afresh while an
     # interrupted run of the same configuration resumes.
-    checkpoint = (f"{p.checkpoint_stem}_{n}in{box}_{sweeps}sweeps_{method}_tol{s['tol']:g}_eps{s['eps']:g}"
+    checkpoint = (f"{p.checkpoint_stem}_{n}in{box}_{sweeps}sweeps_{method}_tol{p.tol:g}_eps{p.eps:g}"
                   f"_cm{cluster_moves:g}.pkl")
-    r = anneal(particle, g, box=box, n=n, steps=n * sweeps, seed=p.seed, method=method, tol=s["tol"],
+    r = anneal(particle, g, box=box, n=n, steps=n * sweeps, seed=p.seed, method=method, tol=p.tol,
                checkpoint=checkpoint, progress=True, cluster_moves=cluster_moves)
     sizes = sorted((len(c) for c in r.clusters()), reverse=True)
     print(f"nu={p.nu} Gamma={p.Gamma} n={n} box={box} seed={p.seed} method={method} cluster_moves={cluster_moves:g}: energy {r.energy:.6g}, "
           f"acceptance {r.acceptance:.3g}, cache hit rate {r.cache_hit_rate:.3f}, {r.elapsed:.1f} s; clusters {sizes[:8]}")
-    save_npz(snakemake.output[0], sites=r.sites, box=box, n=n, nu=p.nu, Gamma=p.Gamma, ell=s["ell"],  # noqa: F821
+    save_npz(snakemake.output[0], sites=r.sites, box=box, n=n, nu=p.nu, Gamma=p.Gamma, ell=p.ell,  # noqa: F821
              seed=p.seed, g=g, energy=r.energy, energy_trace=r.energy_trace, temperature=r.temperature,
              steps=r.steps, acceptance=r.acceptance, stage_acceptance=r.stage_acceptance, method=method,
              cluster_sizes=np.array(sizes), cluster_moves=cluster_moves, kind=p.kind, tiling=p.tiling,

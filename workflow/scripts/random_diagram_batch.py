@@ -8,7 +8,7 @@ from tqdm.auto import tqdm
 from pyfrustrate import random_particles as rp
 from pyfrustrate.io import load_npz, logging_to, save_npz
 
-s = snakemake.params.settings  # noqa: F821
+s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 name, batch = snakemake.wildcards.set, snakemake.params.batch  # noqa: F821
 with logging_to(snakemake.log[0]):  # noqa: F821
     selection = load_npz(snakemake.input[0])  # noqa: F821

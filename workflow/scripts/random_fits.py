@@ -8,8 +8,8 @@ from pyfrustrate.io import load_npz, logging_to, save_npz
 from pyfrustrate.relaxation import relaxed_drawing
 from pyfrustrate.topology import fiber
 
-s = snakemake.params.settings  # noqa: F821
-FIT_EPS = 1e-4  # the fit looks at excess energies down to ~1e-4 of the bulk value: stay linear
+s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
+FIT_EPS = s["fit_eps"]  # the fit reads excess energies down to ~1e-4 of the bulk value: stay linear
 with logging_to(snakemake.log[0]):  # noqa: F821
     summary = load_npz(snakemake.input[0])  # noqa: F821
     index = summary["plotted_index"][: s["fits"]]
@@ -22,10 +22,10 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     exact = summary["plotted_ell"][: s["fits"]].astype(float)
     print(f"fitted/exact: median {np.nanmedian(fitted / exact):.4f}, failed fits {int(np.isnan(fitted).sum())}")
 
-    # Example (panel b): the particle of the subsample with ell nearest 2.
-    example = int(summary["plotted_index"][np.argmin(np.abs(summary["plotted_ell"] - 2.0))])
+    # Example (panel b): the particle of the subsample with ell nearest fit_example_ell.
+    example = int(summary["plotted_index"][np.argmin(np.abs(summary["plotted_ell"] - s["fit_example_ell"]))])
     particle = rp.RandomHexagon.draw(s["seed"], example, eps=FIT_EPS)
-    width = 80
+    width = s["fit_strip_width"]
     distance, excess = rp.edge_energy_profile(particle, width)
     top = fiber(width, 0, curved=False)
     periods = range(-12, 13)  # enough images of the one-column cell to draw a patch of the strip

@@ -6,7 +6,7 @@ from tqdm.auto import tqdm
 from pyfrustrate import random_particles as rp
 from pyfrustrate.io import logging_to, save_npz
 
-s = snakemake.params.settings  # noqa: F821
+s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 start, count = snakemake.params.start, snakemake.params.size  # noqa: F821
 STEP = 20_000
 with logging_to(snakemake.log[0]):  # noqa: F821

@@ -6,7 +6,7 @@ import numpy as np
 from pyfrustrate import random_particles as rp
 from pyfrustrate.io import load_npz, logging_to, save_npz
 
-s = snakemake.params.settings  # noqa: F821
+s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 FIELDS = ("index", "ell", "ell_pred", "ell_eigen", "nu")
 with logging_to(snakemake.log[0]):  # noqa: F821
     batches = [load_npz(p) for p in snakemake.input]  # noqa: F821
