@@ -101,14 +101,17 @@ def machine_line():
             f"python {platform.python_version()}")
 
 
-def write_csv(path, rows):
+def write_csv(path, rows, parameters=None):
     """Write ``rows`` (dicts with the same keys) as CSV, atomically (``pyfrustrate.io.atomic_path``:
-    the trade-off table is a workflow output), and say so."""
+    the trade-off table is a workflow output), its first line a comment with the provenance of
+    the run and its ``parameters``, and say so."""
     import csv
 
-    from pyfrustrate.io import atomic_path
+    from pyfrustrate.io import atomic_path, provenance_line
+    from pyfrustrate.provenance import describe
 
     with atomic_path(path) as tmp, open(tmp, "w", newline="") as fh:
+        fh.write(provenance_line(describe(parameters)))
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)

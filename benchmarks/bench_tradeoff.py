@@ -170,7 +170,7 @@ def main(argv=None):
         "\n", "\n  "))
 
     if args.csv:
-        write_csv(args.csv, rows)
+        write_csv(args.csv, rows, parameters={k: v for k, v in vars(args).items() if k != "csv"})
     return rows
 
 

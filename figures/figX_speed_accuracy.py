@@ -24,7 +24,8 @@ def family(method, start):
 
 
 def main(csv_path, outputs):
-    rows = [r for r in csv.DictReader(open(csv_path)) if r["diverged"] == "False"]
+    with open(csv_path) as fh:  # the first line is a comment: the run's provenance
+        rows = [r for r in csv.DictReader(line for line in fh if not line.startswith("#")) if r["diverged"] == "False"]
     panels = defaultdict(list)
     for r in rows:
         panels[(r["topology"], r["nu"], r["eps"])].append(r)

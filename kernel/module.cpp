@@ -16,4 +16,6 @@ PYBIND11_MODULE(_kernel, m) {
     export_hexagon(m);
     export_random_hexagon(m);
     export_triangle(m);
+    // SHA-256 of the kernel's sources and compiler (CMakeLists.txt): results record it.
+    m.attr("build_hash") = PYFRUSTRATE_KERNEL_HASH;
 }

@@ -1,7 +1,10 @@
 """Atomic result files: nothing half-written survives an interrupted run.
 
 Every writer goes to a temporary file in the target's directory and renames it into place
-(``os.replace`` is atomic on POSIX), so a result file is either complete or absent.
+(``os.replace`` is atomic on POSIX), so a result file is either complete or absent. Writers take
+a ``provenance`` record (``pyfrustrate.provenance``) and store it with the result, where
+``read_provenance`` finds it: an ``.npz`` entry, a ``.json`` key, a ``.csv`` first comment line,
+a PNG text chunk, a PDF's Subject field (all under the name PROVENANCE_KEY).
 """
 from __future__ import annotations
 
@@ -38,22 +41,62 @@ def _umask() -> int:
     return mask
 
 
-def save_npz(path, **arrays) -> None:
-    """Atomically write a compressed ``.npz`` of named arrays."""
+PROVENANCE_KEY = "provenance"
+
+
+def save_npz(path, *, provenance: dict | None = None, **arrays) -> None:
+    """Atomically write a compressed ``.npz`` of named arrays (and the provenance record, as a
+    JSON string under PROVENANCE_KEY)."""
+    if provenance is not None:
+        arrays[PROVENANCE_KEY] = np.array(json.dumps(provenance, sort_keys=True, default=_to_builtin))
     with atomic_path(path, ".npz") as tmp:
         np.savez_compressed(tmp, **arrays)
 
 
 def load_npz(path) -> dict:
-    """Read an ``.npz`` written by ``save_npz`` into a plain dict of arrays."""
+    """Read an ``.npz`` written by ``save_npz`` into a plain dict of arrays (without the
+    provenance record: ``read_provenance`` reads that)."""
     with np.load(path, allow_pickle=False) as data:
-        return {k: data[k] for k in data.files}
+        return {k: data[k] for k in data.files if k != PROVENANCE_KEY}
 
 
-def save_json(path, obj) -> None:
-    """Atomically write ``obj`` as indented JSON."""
+def save_json(path, obj, *, provenance: dict | None = None) -> None:
+    """Atomically write ``obj`` as indented JSON (with the provenance record under
+    PROVENANCE_KEY when ``obj`` is a dict)."""
+    if provenance is not None:
+        if not isinstance(obj, dict) or PROVENANCE_KEY in obj:
+            raise ValueError(f"save_json: a provenance record needs a dict without a '{PROVENANCE_KEY}' key")
+        obj = {**obj, PROVENANCE_KEY: provenance}
     with atomic_path(path, ".json") as tmp:
         tmp.write_text(json.dumps(obj, indent=2, sort_keys=True, default=_to_builtin) + "\n")
+
+
+def provenance_line(provenance: dict) -> str:
+    """The first line of a CSV result: a comment holding the provenance record."""
+    return f"# {PROVENANCE_KEY}: {json.dumps(provenance, sort_keys=True, default=_to_builtin)}\n"
+
+
+def read_provenance(path) -> dict | None:
+    """The provenance record stored with a result file (.npz, .json, .csv, .png), or None."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".npz":
+        with np.load(path, allow_pickle=False) as data:
+            return json.loads(str(data[PROVENANCE_KEY])) if PROVENANCE_KEY in data.files else None
+    if suffix == ".json":
+        obj = json.loads(path.read_text())
+        return obj.get(PROVENANCE_KEY) if isinstance(obj, dict) else None
+    if suffix == ".csv":
+        first = path.read_text().split("\n", 1)[0]
+        prefix = f"# {PROVENANCE_KEY}: "
+        return json.loads(first[len(prefix):]) if first.startswith(prefix) else None
+    if suffix == ".png":
+        from PIL import Image  # matplotlib's own dependency
+
+        with Image.open(path) as image:
+            text = image.text.get(PROVENANCE_KEY)
+        return json.loads(text) if text else None
+    raise ValueError(f"read_provenance: no provenance is stored in '{suffix}' files ({path})")
 
 
 def _to_builtin(value):

@@ -1,6 +1,8 @@
 """Shared figure style: the paper's colour code, particle drawing, atomic PDF + PNG output."""
 from __future__ import annotations
 
+import json
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -9,7 +11,8 @@ import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 
 from . import continuum as continuum_theory  # noqa: E402
-from .io import atomic_path  # noqa: E402
+from .io import PROVENANCE_KEY, atomic_path  # noqa: E402
+from .provenance import describe  # noqa: E402
 
 # Fig. 3 colour code: black bulk with holes, red disk, blue fibre, purple bulk.
 PHASE_COLORS = {"bulk_with_holes": "#1a1a1a", "disk": "#d3002d", "fiber": "#007e94", "bulk": "#7b3294",
@@ -38,11 +41,16 @@ def figure(width_cm: float = 17.8, height_cm: float = 8.0, **kwargs):
     return plt.figure(figsize=(width_cm / 2.54, height_cm / 2.54), **kwargs)
 
 
-def save(fig, outputs) -> None:
-    """Save ``fig`` to every path in ``outputs`` (format from the suffix), atomically."""
+def save(fig, outputs, provenance: dict | None = None) -> None:
+    """Save ``fig`` to every path in ``outputs`` (format from the suffix), atomically, stamped
+    with its provenance (by default ``provenance.describe()``: package, commit, kernel build): a
+    PNG text chunk, or a PDF's Subject field."""
+    record = json.dumps(provenance if provenance is not None else describe(), sort_keys=True)
     for out in outputs:
+        fmt = str(out).rsplit(".", 1)[-1]
+        metadata = {"png": {PROVENANCE_KEY: record}, "pdf": {"Subject": f"{PROVENANCE_KEY}: {record}"}}.get(fmt)
         with atomic_path(out) as tmp:
-            fig.savefig(tmp, format=str(out).rsplit(".", 1)[-1], bbox_inches="tight")
+            fig.savefig(tmp, format=fmt, bbox_inches="tight", metadata=metadata)
     plt.close(fig)
 
 

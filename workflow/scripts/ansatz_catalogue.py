@@ -4,6 +4,7 @@ import numpy as np
 
 from pyfrustrate import ansatz
 from pyfrustrate.io import logging_to, save_npz
+from pyfrustrate.provenance import for_job
 from pyfrustrate.particles import particle_class
 
 s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
@@ -17,6 +18,6 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     table = ansatz.relax_catalogue(particle, candidates, method=s["method"], tol=s["tol"], progress=True,
                                    description=f"ell={ell:g} nu={nu:g}")
     print(f"not converged: {int((~table.converged).sum())}; total time {table.seconds.sum():.1f} s")
-    save_npz(snakemake.output[0], ell=ell, nu=nu, eps=s["eps"], k=particle.k, kc=particle.kc, tiling=tiling,  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), ell=ell, nu=nu, eps=s["eps"], k=particle.k, kc=particle.kc, tiling=tiling,  # noqa: F821
              k_area=particle.k_area, method=s["method"], bulk_reference=particle.bulk_energy_per_particle,
              **table.as_arrays())

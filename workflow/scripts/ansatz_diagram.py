@@ -4,6 +4,7 @@ import numpy as np
 
 from pyfrustrate import ansatz
 from pyfrustrate.io import load_npz, logging_to, save_npz
+from pyfrustrate.provenance import for_job
 from pyfrustrate.particles import particle_class
 
 s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
@@ -32,5 +33,5 @@ with logging_to(snakemake.log[0]):  # noqa: F821
                          / float(ansatz.binding_energy_of(particle, ell, nu, 1.0)))
         kinds, counts = np.unique(phase[-1], return_counts=True)
         print(f"nu={nu:g}: " + ", ".join(f"{k} {c}" for k, c in zip(kinds, counts)))
-    save_npz(snakemake.output[0], ell=ell, nu=np.array(nus), Gamma=Gamma, phase=np.array(phase),  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), ell=ell, nu=np.array(nus), Gamma=Gamma, phase=np.array(phase),  # noqa: F821
              family=np.array(family), size=np.array(size), length=np.array(length), gas_Gamma=np.array(gas_Gamma))

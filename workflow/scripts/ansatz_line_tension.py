@@ -13,6 +13,7 @@ import numpy as np
 
 from pyfrustrate import Hexagon, ansatz, relax, topology
 from pyfrustrate.io import logging_to, save_json
+from pyfrustrate.provenance import for_job
 
 s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 EDGE_EPS = s["edge_eps"]
@@ -39,4 +40,4 @@ with logging_to(snakemake.log[0]):  # noqa: F821
             rows.append(row)
             print(f"ell={ell:g} cut={cut} curved={curved}: relief/continuum = {ratio:.4f}, "
                   f"fibre-bulk Gamma under gamma = g: {ratio / binding:.4f}")
-    save_json(snakemake.output[0], {"description": __doc__, "eps": EDGE_EPS, "rows": rows})  # noqa: F821
+    save_json(snakemake.output[0], provenance=for_job(snakemake), obj={"description": __doc__, "eps": EDGE_EPS, "rows": rows})  # noqa: F821

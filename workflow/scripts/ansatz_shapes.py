@@ -4,6 +4,7 @@ import numpy as np
 
 from pyfrustrate import Hexagon, relax, topology
 from pyfrustrate.io import logging_to, save_npz
+from pyfrustrate.provenance import for_job
 from pyfrustrate.relaxation import relaxed_drawing
 
 ELL, NU, EPS = (snakemake.params[key] for key in ("drawing_ell", "drawing_nu", "drawing_eps"))  # noqa: F821
@@ -24,4 +25,4 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         out[f"{name}_corners"], out[f"{name}_energy"] = corners, energy / bulk_pp
         print(f"{name}: E/N = {r.energy_per_particle / bulk_pp:.4f} bulk, bonds/N = {topo.n_bonds / topo.n_particles:.3f}, "
               f"converged={r.converged}")
-    save_npz(snakemake.output[0], ell=ELL, nu=NU, eps=EPS, names=np.array(list(items)), **out)  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), ell=ELL, nu=NU, eps=EPS, names=np.array(list(items)), **out)  # noqa: F821

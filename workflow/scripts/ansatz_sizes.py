@@ -5,6 +5,7 @@ import numpy as np
 
 from pyfrustrate import Hexagon, ansatz, continuum
 from pyfrustrate.io import load_npz, logging_to, save_npz
+from pyfrustrate.provenance import for_job
 
 s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 with logging_to(snakemake.log[0]):  # noqa: F821
@@ -30,4 +31,4 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         out[f"{kind}_length"] = np.array(lengths)
         out[f"{kind}_at_cap"] = np.array(at_cap)
         out[f"{kind}_theory"] = theory(nu, Gamma)
-    save_npz(snakemake.output[0], **out)  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), **out)  # noqa: F821

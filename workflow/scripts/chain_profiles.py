@@ -4,6 +4,7 @@ import numpy as np
 
 from pyfrustrate import chain, continuum
 from pyfrustrate.io import logging_to, save_npz
+from pyfrustrate.provenance import for_job
 
 s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 with logging_to(snakemake.log[0]):  # noqa: F821
@@ -26,7 +27,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         ell_fit.append(chain.fit_decay_length(r.shift))
         print(f"scan kc/k={ratio:.3g}: n={length} ell={ell:.4g} fitted={ell_fit[-1]:.4g} converged={r.converged}")
 
-    save_npz(snakemake.output[0],  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake),  # noqa: F821
              n=n, eps=eps, profile_kc_over_k=np.array(s["profile_kc_over_k"]), profiles=np.array(profiles),
              exact=np.array(exact), drawing_eps=s["drawing_eps"], drawing_kc_over_k=s["drawing_kc_over_k"],
              drawing_x_up=drawn.x_up, drawing_x_down=drawn.x_down, scan_kc_over_k=scan,

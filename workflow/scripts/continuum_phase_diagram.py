@@ -4,6 +4,7 @@ import numpy as np
 
 from pyfrustrate import continuum
 from pyfrustrate.io import logging_to, save_npz
+from pyfrustrate.provenance import for_job
 
 s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 with logging_to(snakemake.log[0]):  # noqa: F821
@@ -17,6 +18,6 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     lines = continuum.critical_line_tensions(fine_nu)
     for name in ("bulk", "fiber", "disk"):
         print(f"{name}: {np.mean(phase == name):.3f} of the grid")
-    save_npz(snakemake.output[0], nu=nu, Gamma=Gamma, phase=phase.astype(str), width=width, radius=radius,  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), nu=nu, Gamma=Gamma, phase=phase.astype(str), width=width, radius=radius,  # noqa: F821
              line_nu=fine_nu, fiber_bulk=lines.fiber_bulk, disk_bulk=lines.disk_bulk, disk_fiber=lines.disk_fiber,
              disk_fiber_upper=lines.disk_fiber_upper)

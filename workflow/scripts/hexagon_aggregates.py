@@ -4,6 +4,7 @@ across) with the deformation energy of each particle in units of the bulk value.
 
 from pyfrustrate import Hexagon, relax, topology
 from pyfrustrate.io import logging_to, save_npz
+from pyfrustrate.provenance import for_job
 from pyfrustrate.relaxation import particle_corners, relaxed_drawing
 
 s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
@@ -27,5 +28,5 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         results[f"{name}_corners"] = corners
         results[f"{name}_energy"] = energies / bulk_value
         results[f"{name}_mean"] = r.energy_per_particle / bulk_value
-    save_npz(snakemake.output[0], rest_corners=rest, small_corners=small_corners, ell=s["ell"], nu=s["nu"],  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), rest_corners=rest, small_corners=small_corners, ell=s["ell"], nu=s["nu"],  # noqa: F821
              eps=s["eps"], drawing_eps=s["drawing_eps"], drawing_ell=s["drawing_ell"], **results)

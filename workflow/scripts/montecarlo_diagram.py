@@ -10,6 +10,7 @@ import numpy as np
 from pyfrustrate.ansatz import FiniteAggregates, energy_above_best_single
 from pyfrustrate.ground_states import BoxCandidates, structure
 from pyfrustrate.io import load_npz, logging_to, save_npz
+from pyfrustrate.provenance import for_job
 from pyfrustrate.montecarlo import ELONGATION_THRESHOLD, classify_aggregate
 
 with logging_to(snakemake.log[0]):  # noqa: F821
@@ -45,7 +46,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
               f"{gap:+.1f} bulk particle energies above the best single aggregate ({single}), "
               f"{gap_ground:+.1f} above the box's ground state ({ground}); the run's structure: {found}")
     nu, Gamma, kind, size, n, gap, single, gap_ground, ground, found = (np.array(c) for c in zip(*rows))
-    save_npz(snakemake.output[0], nu=nu, Gamma=Gamma, kind=kind.astype(str), size=size, n=n,  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), nu=nu, Gamma=Gamma, kind=kind.astype(str), size=size, n=n,  # noqa: F821
              gap=gap, single_kind=single.astype(str), gap_ground=gap_ground, ground_family=ground.astype(str),
              structure=found.astype(str),
              elongation_threshold=ELONGATION_THRESHOLD,

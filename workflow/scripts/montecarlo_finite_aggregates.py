@@ -7,6 +7,7 @@ import numpy as np
 
 from pyfrustrate import Hexagon, ansatz, ground_states
 from pyfrustrate.io import logging_to, save_npz
+from pyfrustrate.provenance import for_job
 
 s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 n, nu, box = snakemake.params.n, snakemake.params.nu, snakemake.params.box  # noqa: F821
@@ -21,7 +22,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     candidates = ground_states.box_candidates(particle, n, box)
     families = sorted(set(candidates.best_family(g).tolist()))
     print(f"box {box}: {len(candidates.family)} candidate ground states; best over Gamma in [0, {s['finite_Gamma_max']:g}]: {families}")
-    save_npz(snakemake.output[0], n=n, nu=nu, ell=s["ell"], eps=s["eps"], Gamma=Gamma, g=g, best=best,  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), n=n, nu=nu, ell=s["ell"], eps=s["eps"], Gamma=Gamma, g=g, best=best,  # noqa: F821
              segment=shapes.segment, sites=np.stack(shapes.sites), deformation=shapes.deformation,
              bonds=shapes.bonds, width=shapes.width, length=shapes.length, converged=shapes.converged,
              bulk_energy_per_particle=particle.bulk_energy_per_particle, **candidates.arrays())

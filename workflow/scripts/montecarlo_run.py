@@ -11,6 +11,7 @@ import numpy as np
 
 from pyfrustrate import anneal, continuum
 from pyfrustrate.io import logging_to, save_npz
+from pyfrustrate.provenance import for_job
 from pyfrustrate.particles import particle_class
 
 p = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
@@ -30,7 +31,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     sizes = sorted((len(c) for c in r.clusters()), reverse=True)
     print(f"nu={p.nu} Gamma={p.Gamma} n={n} box={box} seed={p.seed} method={method} cluster_moves={cluster_moves:g}: energy {r.energy:.6g}, "
           f"acceptance {r.acceptance:.3g}, cache hit rate {r.cache_hit_rate:.3f}, {r.elapsed:.1f} s; clusters {sizes[:8]}")
-    save_npz(snakemake.output[0], sites=r.sites, box=box, n=n, nu=p.nu, Gamma=p.Gamma, ell=p.ell,  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), sites=r.sites, box=box, n=n, nu=p.nu, Gamma=p.Gamma, ell=p.ell,  # noqa: F821
              seed=p.seed, g=g, energy=r.energy, energy_trace=r.energy_trace, temperature=r.temperature,
              steps=r.steps, acceptance=r.acceptance, stage_acceptance=r.stage_acceptance, method=method,
              cluster_sizes=np.array(sizes), cluster_moves=cluster_moves, kind=p.kind, tiling=p.tiling,

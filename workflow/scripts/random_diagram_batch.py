@@ -7,6 +7,7 @@ from tqdm.auto import tqdm
 
 from pyfrustrate import random_particles as rp
 from pyfrustrate.io import load_npz, logging_to, save_npz
+from pyfrustrate.provenance import for_job
 
 s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 name, batch = snakemake.wildcards.set, snakemake.params.batch  # noqa: F821
@@ -34,7 +35,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
             width_rel[k], radius_rel[k] = rel["width"], rel["radius"]
             capped["width_relative"][k], capped["radius_relative"][k] = rel["width_capped"], rel["radius_capped"]
     print(f"{n} particles")
-    save_npz(snakemake.output[0], index=index.astype(np.int64), ell=ell, nu=nu, Gamma=Gamma, phase=phase,  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), index=index.astype(np.int64), ell=ell, nu=nu, Gamma=Gamma, phase=phase,  # noqa: F821
              width=width, radius=radius, Gamma_max=Gamma_max, phases=np.array(rp.PHASE_CODES),
              Gamma_relative=relative, width_relative=width_rel, radius_relative=radius_rel,
              **{f"{key}_capped": value for key, value in capped.items()})

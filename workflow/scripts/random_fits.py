@@ -5,6 +5,7 @@ from tqdm.auto import tqdm
 
 from pyfrustrate import random_particles as rp
 from pyfrustrate.io import load_npz, logging_to, save_npz
+from pyfrustrate.provenance import for_job
 from pyfrustrate.relaxation import relaxed_drawing
 from pyfrustrate.topology import fiber
 
@@ -31,7 +32,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     periods = range(-12, 13)  # enough images of the one-column cell to draw a patch of the strip
     corners, energy, _ = relaxed_drawing(particle, top, periods, method="linear")
     energy = energy / particle.bulk_energy_per_particle
-    save_npz(snakemake.output[0], index=index, fitted=fitted, exact=exact,  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), index=index, fitted=fitted, exact=exact,  # noqa: F821
              example_index=example, example_ell=particle.boundary_layer_length,
              example_fitted=rp.fitted_boundary_layer_length(particle), example_distance=distance,
              example_excess=excess, example_corners=corners, example_energy=energy)

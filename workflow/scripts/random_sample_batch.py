@@ -5,6 +5,7 @@ from tqdm.auto import tqdm
 
 from pyfrustrate import random_particles as rp
 from pyfrustrate.io import logging_to, save_npz
+from pyfrustrate.provenance import for_job
 
 s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 start, count = snakemake.params.start, snakemake.params.size  # noqa: F821
@@ -16,5 +17,5 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     out = {k: np.concatenate([p[k] for p in parts]) for k in ("index", "ell", "ell_pred", "ell_eigen", "nu")}
     bad = ~np.isfinite(out["ell"])
     print(f"{count} matrices; non-finite ell: {int(bad.sum())}; ell > 1.5: {np.mean(out['ell'] > 1.5):.4f}")
-    save_npz(snakemake.output[0], seed=s["seed"], index=out["index"].astype(np.int64),  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), seed=s["seed"], index=out["index"].astype(np.int64),  # noqa: F821
              **{k: out[k].astype(np.float32) for k in ("ell", "ell_pred", "ell_eigen", "nu")})

@@ -5,6 +5,7 @@ import numpy as np
 
 from pyfrustrate import random_particles as rp
 from pyfrustrate.io import load_npz, logging_to, save_npz
+from pyfrustrate.provenance import for_job
 
 s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 FIELDS = ("index", "ell", "ell_pred", "ell_eigen", "nu")
@@ -29,7 +30,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         # Each group's Poisson ratios before selection (Fig. S3b), as a density.
         summary[f"group{i}_nu_density"] = np.histogram(sample["nu"][members], summary["nu_edges"], density=True)[0]
         print(f"ell in [{groups[i]:g}, {groups[i + 1]:g}): fraction {summary[f'group{i}_fraction']:.4f}")
-    save_npz(snakemake.output.summary, **summary)  # noqa: F821
+    save_npz(snakemake.output.summary, provenance=for_job(snakemake), **summary)  # noqa: F821
 
     selection = {}
     sizes = np.sort(rng.choice(len(sample["ell"]), size=min(s["size_particles"], len(sample["ell"])), replace=False))
@@ -41,4 +42,4 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         print(f"group {i}: {len(members)} candidates, {len(chosen)} chosen")
         selection.update({f"group{i}_index": sample["index"][chosen], f"group{i}_ell": sample["ell"][chosen],
                           f"group{i}_nu": sample["nu"][chosen]})
-    save_npz(snakemake.output.selection, **selection)  # noqa: F821
+    save_npz(snakemake.output.selection, provenance=for_job(snakemake), **selection)  # noqa: F821

@@ -4,6 +4,7 @@ import numpy as np
 
 from pyfrustrate import Triangle, relax, topology
 from pyfrustrate.io import logging_to, save_npz
+from pyfrustrate.provenance import for_job
 from pyfrustrate.relaxation import relaxed_drawing
 
 p = snakemake.params  # noqa: F821
@@ -30,6 +31,6 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         out[f"{name}_per_particle"] = r.energy_per_particle / bulk_pp
         print(f"{name}: E/N = {r.energy_per_particle / bulk_pp:.4f} bulk, bonds/N = {topo.n_bonds / topo.n_particles:.3f}, "
               f"converged={r.converged}")
-    save_npz(snakemake.output[0], ell=p.ell, nu=p.nu, eps=p.eps, names=np.array(list(items)),  # noqa: F821
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), ell=p.ell, nu=p.nu, eps=p.eps, names=np.array(list(items)),  # noqa: F821
              springs=np.array([(a, b) for a, b, _ in particle._kernel_model.springs]),
              spring_kinds=np.array([kind for _, _, kind in particle._kernel_model.springs]), **out)
