@@ -11,8 +11,10 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import signal
 import sys
 import tempfile
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -105,6 +107,26 @@ def _to_builtin(value):
     if isinstance(value, np.ndarray):
         return value.tolist()
     raise TypeError(f"cannot serialise {type(value).__name__}")
+
+
+@contextlib.contextmanager
+def sigterm_raises():
+    """Within the block, SIGTERM (Snakemake cancelling its jobs, a scheduler pre-empting one, a
+    plain ``kill``) raises SystemExit instead of ending the process on the spot, so that
+    ``except`` and ``finally`` blocks run: an annealing run saves its checkpoint before it stops.
+    Only the main thread can handle signals; elsewhere the block runs unchanged."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum, frame):
+        raise SystemExit(128 + signum)
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 @contextlib.contextmanager

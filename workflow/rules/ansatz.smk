@@ -86,7 +86,7 @@ rule fig3b_ansatz:
         convention="measured",
     output:
         pdf=f"{FIGURES}/fig3b_ansatz.pdf",
-        png=f"{FIGURES}/fig3b_ansatz.png",
+        png=figure_png("fig3b_ansatz"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -107,7 +107,7 @@ rule figX_fig3b_supplement_convention:
         convention="supplement",
     output:
         pdf=f"{FIGURES}/figX_fig3b_supplement_convention.pdf",
-        png=f"{FIGURES}/figX_fig3b_supplement_convention.png",
+        png=figure_png("figX_fig3b_supplement_convention"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -122,7 +122,7 @@ rule figS1_ansatz:
         continuum=rules.continuum_phase_diagram.output,
     output:
         pdf=f"{FIGURES}/figS1_ansatz.pdf",
-        png=f"{FIGURES}/figS1_ansatz.png",
+        png=figure_png("figS1_ansatz"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -136,7 +136,7 @@ rule fig4a_catalogue:
         rules.ansatz_shapes.output,
     output:
         pdf=f"{FIGURES}/fig4a_catalogue.pdf",
-        png=f"{FIGURES}/fig4a_catalogue.png",
+        png=figure_png("fig4a_catalogue"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -150,7 +150,7 @@ rule fig4b_sizes:
         rules.ansatz_sizes.output,
     output:
         pdf=f"{FIGURES}/fig4b_sizes.pdf",
-        png=f"{FIGURES}/fig4b_sizes.png",
+        png=figure_png("fig4b_sizes"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:

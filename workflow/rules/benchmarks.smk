@@ -1,6 +1,10 @@
 # The speed/accuracy knob, measured on this machine: relative energy error against time for the
 # linear solve, Newton and L-BFGS at several tolerances (benchmarks/bench_tradeoff.py).
 rule speed_accuracy:
+    input:
+        # The benchmark's own code: editing it reruns the measurement.
+        script="benchmarks/bench_tradeoff.py",
+        common="benchmarks/_common.py",
     output:
         "results/benchmarks/speed_accuracy.csv",
     params:
@@ -19,7 +23,7 @@ rule fig_speed_accuracy:
         rules.speed_accuracy.output,
     output:
         pdf=f"{FIGURES}/figX_speed_accuracy.pdf",
-        png=f"{FIGURES}/figX_speed_accuracy.png",
+        png=figure_png("figX_speed_accuracy"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:

@@ -16,7 +16,7 @@ rule fig1_chain:
         rules.chain_profiles.output,
     output:
         pdf=f"{FIGURES}/fig1_chain.pdf",
-        png=f"{FIGURES}/fig1_chain.png",
+        png=figure_png("fig1_chain"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:

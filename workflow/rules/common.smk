@@ -10,6 +10,13 @@ def per_box(section, key):
     return lambda w: section[key if w.kind.startswith("sparse") else f"{w.kind.split('_')[0]}_{key}"]
 
 
+def figure_png(name):
+    """A figure's PNG, marked for `snakemake --report` with its caption (workflow/report/) under
+    the part of the paper it belongs to."""
+    category = "Beyond the paper" if name.startswith("figX") else "Supplement" if name.startswith("figS") else "Main text"
+    return report(f"{FIGURES}/{name}.png", caption=f"../report/{name}.rst", category=category)
+
+
 # Names shared by the rules: the nu grid of the ansatz diagrams and the catalogue file of a particle.
 ANSATZ = config["ansatz"]
 DIAGRAM_NU = sorted({round(min(float(x), ANSATZ["nu_max"]), 4) for x in np.linspace(0, 1, ANSATZ["nu_count"])})

@@ -16,7 +16,7 @@ rule fig3a_continuum:
         rules.continuum_phase_diagram.output,
     output:
         pdf=f"{FIGURES}/fig3a_continuum.pdf",
-        png=f"{FIGURES}/fig3a_continuum.png",
+        png=figure_png("fig3a_continuum"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:

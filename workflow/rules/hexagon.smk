@@ -16,7 +16,7 @@ rule fig2_hexagon:
         rules.hexagon_aggregates.output,
     output:
         pdf=f"{FIGURES}/fig2_hexagon.pdf",
-        png=f"{FIGURES}/fig2_hexagon.png",
+        png=figure_png("fig2_hexagon"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:

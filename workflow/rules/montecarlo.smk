@@ -48,7 +48,7 @@ rule figX_mc_diagram:
         continuum=rules.continuum_phase_diagram.output,
     output:
         pdf=f"{FIGURES}/figX_mc_diagram.pdf",
-        png=f"{FIGURES}/figX_mc_diagram.png",
+        png=figure_png("figX_mc_diagram"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -82,7 +82,7 @@ rule figX_mc_finite_size:
         finite=finite_aggregate_files(),
     output:
         pdf=f"{FIGURES}/figX_mc_finite_size.pdf",
-        png=f"{FIGURES}/figX_mc_finite_size.png",
+        png=figure_png("figX_mc_finite_size"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:

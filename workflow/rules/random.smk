@@ -75,7 +75,7 @@ rule fig5_random:
         sizes=random_diagram_files("sizes"),
     output:
         pdf=f"{FIGURES}/fig5_random.pdf",
-        png=f"{FIGURES}/fig5_random.png",
+        png=figure_png("fig5_random"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -89,7 +89,7 @@ rule figS2_random_sizes:
         sizes=random_diagram_files("sizes"),
     output:
         pdf=f"{FIGURES}/figS2_random_sizes.pdf",
-        png=f"{FIGURES}/figS2_random_sizes.png",
+        png=figure_png("figS2_random_sizes"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -103,7 +103,7 @@ rule fig6_random_diagrams:
         groups=[random_diagram_files(f"group{i}") for i in range(len(RANDOM["group_counts"]))],
     output:
         pdf=f"{FIGURES}/fig6_random_diagrams.pdf",
-        png=f"{FIGURES}/fig6_random_diagrams.png",
+        png=figure_png("fig6_random_diagrams"),
     params:
         ell_groups=RANDOM["ell_groups"],
     conda:
@@ -120,7 +120,7 @@ rule figS3_random_histograms:
         selection=rules.random_summary.output.selection,
     output:
         pdf=f"{FIGURES}/figS3_random_histograms.pdf",
-        png=f"{FIGURES}/figS3_random_histograms.png",
+        png=figure_png("figS3_random_histograms"),
     params:
         ell_groups=RANDOM["ell_groups"],
     conda:
@@ -136,7 +136,7 @@ rule figS5_ell_eigen:
         summary=rules.random_summary.output.summary,
     output:
         pdf=f"{FIGURES}/figS5_ell_eigen.pdf",
-        png=f"{FIGURES}/figS5_ell_eigen.png",
+        png=figure_png("figS5_ell_eigen"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -148,7 +148,7 @@ rule figS5_ell_eigen:
 rule figS4_pseudo_moduli:
     output:
         pdf=f"{FIGURES}/figS4_pseudo_moduli.pdf",
-        png=f"{FIGURES}/figS4_pseudo_moduli.png",
+        png=figure_png("figS4_pseudo_moduli"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -182,7 +182,7 @@ rule figX_ell_definitions:
         table=rules.random_ell_definitions.output.table,
     output:
         pdf=f"{FIGURES}/figX_ell_definitions.pdf",
-        png=f"{FIGURES}/figX_ell_definitions.png",
+        png=figure_png("figX_ell_definitions"),
     params:
         ell_groups=RANDOM["ell_groups"],
     conda:

@@ -85,7 +85,7 @@ rule figS6_triangle:
         snapshots=triangle_run_files(),
     output:
         pdf=f"{FIGURES}/figS6_triangle.pdf",
-        png=f"{FIGURES}/figS6_triangle.png",
+        png=figure_png("figS6_triangle"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:

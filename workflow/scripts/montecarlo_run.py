@@ -10,12 +10,13 @@ import os
 import numpy as np
 
 from pyfrustrate import anneal, continuum
-from pyfrustrate.io import logging_to, save_npz
+from pyfrustrate.io import logging_to, save_npz, sigterm_raises
 from pyfrustrate.provenance import for_job
 from pyfrustrate.particles import particle_class
 
 p = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
-with logging_to(snakemake.log[0]):  # noqa: F821
+# A cancelled job (SIGTERM) saves its checkpoint on the way out; the next run resumes from it.
+with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
     particle = particle_class(p.tiling).from_continuum(p.ell, p.nu, eps=p.eps)
     g = float(continuum.particle_parameters(p.ell, p.nu, p.Gamma, eps=p.eps, tiling=p.tiling,
                                             convention=p.convention).g)
@@ -28,6 +29,8 @@ with logging_to(snakemake.log[0]):  # noqa: F821
                   f"_cm{cluster_moves:g}.pkl")
     r = anneal(particle, g, box=box, n=n, steps=n * sweeps, seed=p.seed, method=method, tol=p.tol,
                checkpoint=checkpoint, progress=True, cluster_moves=cluster_moves)
+    if r.resumed:
+        print(f"resumed from checkpoint {checkpoint}")
     sizes = sorted((len(c) for c in r.clusters()), reverse=True)
     print(f"nu={p.nu} Gamma={p.Gamma} n={n} box={box} seed={p.seed} method={method} cluster_moves={cluster_moves:g}: energy {r.energy:.6g}, "
           f"acceptance {r.acceptance:.3g}, cache hit rate {r.cache_hit_rate:.3f}, {r.elapsed:.1f} s; clusters {sizes[:8]}")
