@@ -164,7 +164,7 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
         [cls = m.attr(class_name)](const Model& model, py::args args, py::kwargs kwargs) {
             return cls(model, *args, **kwargs);
         },
-        "MonteCarlo(model, g, box, n, seed, ...): the Monte Carlo class of the model's type.");
+        py::arg("model"), "MonteCarlo(model, g, box, n, seed, ...): the Monte Carlo class of the model's type.");
 }
 
 }  // namespace pyfrustrate

@@ -174,7 +174,7 @@ class AnnealResult(BoxState):
     elapsed: float = 0.0
     resumed: bool = False
     tiling: str = "hexagon"
-    state: AnnealState = field(default=None, repr=False)
+    state: AnnealState | None = field(default=None, repr=False)
 
     @property
     def cache_hit_rate(self) -> float:
@@ -522,17 +522,17 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     if checkpoint is not None:
         save(last, complete=True)
 
-    energies, accepted = np.asarray(energies, float), np.asarray(accepted, np.int64)
+    energy_trace, accepted_per_block = np.asarray(energies, float), np.asarray(accepted, np.int64)
     stage_attempted = np.bincount(stage_of_block, weights=block_steps, minlength=n_stages)
-    stage_accepted = np.bincount(stage_of_block, weights=accepted, minlength=n_stages)
+    stage_accepted = np.bincount(stage_of_block, weights=accepted_per_block, minlength=n_stages)
     with np.errstate(invalid="ignore", divide="ignore"):
         stage_acceptance = stage_accepted / stage_attempted
     counters = mc.counters
     return AnnealResult(sites=np.asarray(mc.particles), box=box, n=n, g=g, energy=float(mc.energy),
                         bonds=int(mc.bonds), deformation=float(mc.deformation), steps=cum_steps.copy(),
-                        temperature=temps, energy_trace=energies, accepted=accepted,
+                        temperature=temps, energy_trace=energy_trace, accepted=accepted_per_block,
                         stage_acceptance=stage_acceptance,
-                        acceptance=float(accepted.sum() / max(1, total_steps)), counters=counters, seed=seed,
+                        acceptance=float(accepted_per_block.sum() / max(1, total_steps)), counters=counters, seed=seed,
                         params=params, elapsed=time.perf_counter() - start, resumed=resumed,
                         tiling=particle.tiling, state=last)
 

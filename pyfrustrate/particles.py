@@ -11,7 +11,7 @@ model inherits those tests by being listed there.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import ClassVar, Protocol, runtime_checkable
+from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -49,9 +49,9 @@ class _SpringParticle:
     kc: float = 0.01
     k_area: float = 0.0
     eps: float = 0.01
-    _kernel_model: object = field(init=False, repr=False, compare=False)
+    _kernel_model: _kernel.HexagonModel | _kernel.TriangleModel = field(init=False, repr=False, compare=False)
     tiling: ClassVar[str] = "hexagon"
-    _kernel_class: ClassVar[object] = None
+    _kernel_class: ClassVar[Any] = None
 
     def __post_init__(self):
         if not (0 < self.eps < 1):
@@ -124,7 +124,7 @@ class Hexagon(_SpringParticle):
     """
 
     tiling: ClassVar[str] = "hexagon"
-    _kernel_class: ClassVar[object] = _kernel.HexagonModel
+    _kernel_class: ClassVar[type[_kernel.HexagonModel]] = _kernel.HexagonModel
 
 
 @dataclass(frozen=True)
@@ -141,7 +141,7 @@ class Triangle(_SpringParticle):
     """
 
     tiling: ClassVar[str] = "triangle"
-    _kernel_class: ClassVar[object] = _kernel.TriangleModel
+    _kernel_class: ClassVar[type[_kernel.TriangleModel]] = _kernel.TriangleModel
 
 
 #: The spring particle of each tiling.

@@ -147,7 +147,7 @@ class Topology:
     size: float = float("nan")
     label: str = ""
     tiling: str = "hexagon"
-    kernel: object = field(init=False, repr=False, compare=False)
+    kernel: _kernel.Topology = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
         sites = np.asarray(self.sites)
@@ -359,7 +359,7 @@ def fiber(width: int, cut: int = 0, curved: bool = True, tiling: str = "hexagon"
         raise ValueError(f"width {width} is too narrow for cut {cut}: the strip falls apart "
                          f"(the narrowest connected one has width {min_fiber_width(cut, tiling)})")
     length = np.linalg.norm(cell_positions([axis])[0])
-    return Topology("fiber", sites, "fiber", [axis, (0, 0)], curved=curved,
+    return Topology("fiber", sites, "fiber", np.array([axis, (0, 0)]), curved=curved,
                     size=float(len(sites) * area_per_particle(tiling) / length),
                     label=f"fibre cut {cut} width {width}" + ("" if curved else " (straight)"), tiling=tiling)
 
@@ -367,7 +367,8 @@ def fiber(width: int, cut: int = 0, curved: bool = True, tiling: str = "hexagon"
 def bulk(tiling: str = "hexagon") -> Topology:
     """The infinite bulk, as a one-cell periodic cell (one hexagon, or an up and a down triangle)."""
     sites = [[0, 0]] if site_columns(tiling) == 2 else [[0, 0, 0], [0, 0, 1]]
-    return Topology("bulk", sites, "bulk", [(1, 0), (0, 1)], size=float("inf"), label="bulk", tiling=tiling)
+    return Topology("bulk", np.array(sites), "bulk", np.array([(1, 0), (0, 1)]), size=float("inf"), label="bulk",
+                    tiling=tiling)
 
 
 # Hole patterns: (periods, occupied sites of the cell), per tiling. Hexagons: 'honeycomb'
