@@ -84,8 +84,23 @@ FIBER_AXES = {0: (1, 0), 1: (-1, 2), 2: (2, 1)}  # hexagon tiling
 TRIANGLE_FIBER_AXES = {0: (1, 0), 1: (1, 0), 2: (-1, 2)}
 
 
+def _whole(name: str, value, lo: int) -> int:
+    """``value`` as an int ``>= lo`` if it is a whole number (an integral float too), else
+    ValueError naming ``name``: ``int()`` alone raises OverflowError for inf and a message
+    without the parameter for NaN or text."""
+    try:
+        ok = not isinstance(value, bool) and float(value) == int(float(value)) and value >= lo
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        bound = "positive" if lo == 1 else "non-negative" if lo == 0 else f">= {lo}"
+        raise ValueError(f"{name} must be a {bound} integer, got {value!r}")
+    return int(value)
+
+
 def fiber_axis(cut: int, tiling: str = "hexagon") -> tuple[int, int]:
     """Lattice axis of a fibre cut (module docstring)."""
+    tiling_facts(tiling)  # an unknown tiling is refused, not given the triangle's axes
     axes = FIBER_AXES if tiling == "hexagon" else TRIANGLE_FIBER_AXES
     if cut not in axes:
         raise ValueError(f"cut must be 0, 1 or 2, got {cut!r}")
@@ -231,8 +246,7 @@ def triangle_hexagon_sites(R: int) -> np.ndarray:
 def disk(R: int, tiling: str = "hexagon") -> Topology:
     """Compact aggregate of 'radius' ``R`` (``R = 0`` is a single particle): the hexagon of radius
     ``R`` around a site (hexagons) or of side ``R`` around a vertex (triangles)."""
-    if int(R) != R or R < 0:
-        raise ValueError(f"R must be a non-negative integer, got {R!r}")
+    R = _whole("R", R, 0)
     if tiling_facts(tiling)["sublattices"] == 1:
         sites = hexagon_sites(int(R))
     else:
@@ -352,8 +366,7 @@ def fiber(width: int, cut: int = 0, curved: bool = True, tiling: str = "hexagon"
     """
     tiling_facts(tiling)
     axis = fiber_axis(cut, tiling)
-    if int(width) != width or width < 1:
-        raise ValueError(f"width must be a positive integer, got {width!r}")
+    width = _whole("width", width, 1)
     sites = _fiber_cell(int(width), cut, tiling)
     if not _strip_is_connected(sites, axis, tiling):
         raise ValueError(f"width {width} is too narrow for cut {cut}: the strip falls apart "
