@@ -24,6 +24,12 @@ inline StiffnessCache* cache_pointer(const OptionalCache& cache) {
     return cache.cast<StiffnessCache*>();
 }
 
+// A NaN or inf argument would come back as a NaN energy, silently: refused, naming the argument.
+template <class Vec>
+void check_finite(const char* name, const Vec& v) {
+    if (!v.allFinite()) throw std::invalid_argument(std::string(name) + " contains non-finite values");
+}
+
 template <class Model>
 void check_state(const Network<Model>& net, const Vector& x) {
     if (x.size() != net.size())
@@ -56,6 +62,7 @@ void bind_particle_contract(Class& cls) {
         .def(
             "energy_of_displacement",
             [](const Model& model, const typename Model::Corners& disp) {
+                check_finite("displacement", disp);
                 typename Model::Corners g = Model::Corners::Zero();
                 typename Model::Hessian h = Model::Hessian::Zero();
                 const double e = model.energy_of_displacement(disp, &g, &h);
@@ -76,6 +83,7 @@ void bind_evaluate_terms(Class& cls, const char* doc) {
     cls.def(
         "evaluate",
         [](const Model& model, const typename Model::Corners& corners) {
+            check_finite("corners", corners);
             typename Model::Corners g = Model::Corners::Zero();
             typename Model::Hessian h = Model::Hessian::Zero();
             const auto terms = model.terms(corners, &g, &h);

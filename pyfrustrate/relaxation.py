@@ -291,6 +291,9 @@ def periodic_images(topology: Topology, state, corners, images=range(-1, 2)) -> 
     """
     state = np.asarray(state, float)
     corners = np.asarray(corners, float)
+    for name, value in (("state", state), ("corners", corners)):
+        if not np.all(np.isfinite(value)):
+            raise ValueError(f"{name} contains non-finite values")
     if topology.periodicity == "none":
         return corners
     shifts = [(a, b) for a in images for b in images] if topology.periodicity == "bulk" else [(n, 0) for n in images]

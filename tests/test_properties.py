@@ -25,7 +25,7 @@ import pyfrustrate as pf
 from pyfrustrate import _kernel, boundary_layer, chain, continuum as C, random_particles as rp
 from pyfrustrate import relaxation as R
 from pyfrustrate import topology as T
-from pyfrustrate.montecarlo import clusters
+from pyfrustrate.montecarlo import classify_aggregate, clusters
 
 
 def fast(examples: int):
@@ -219,6 +219,18 @@ def test_evaluate_refuses_bad_corners(particle, bad):
     else:
         corners = {"short": corners[:10], "long": np.r_[corners, 0.0], "matrix": corners.reshape(3, 4)}[bad]
     refused(lambda: particle.evaluate(corners), "corners")
+
+
+@fast(40)
+@given(particle=st.one_of(particles(), st.integers(0, 2**32 - 1).map(lambda seed: pf.RandomHexagon.draw(seed))),
+       where=st.integers(0, 11), value=NON_FINITE, which=st.sampled_from(["evaluate", "energy_of_displacement"]))
+def test_kernel_models_refuse_non_finite_corners(particle, where, value, which):
+    # The kernel's own evaluators (what the stub shows editors) refuse them too, not only the
+    # Python wrappers: a NaN in would be a NaN energy out.
+    x = np.zeros(12) if which == "energy_of_displacement" else np.array(type(particle._kernel_model).rest_corners())
+    x[where] = value
+    refused(lambda: getattr(particle._kernel_model, which)(x), "displacement" if which != "evaluate" else "corners",
+            ValueError)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -491,6 +503,51 @@ def test_anneal_in_tiny_boxes_ends_in_a_consistent_finite_state(run):
     assert sum(len(c) for c, _ in clusters(res.sites, box, run["particle"].tiling)) == n
 
 
+@st.composite
+def box_states(draw):
+    tiling = draw(TILING)
+    box = draw(st.integers(1, 6))
+    sublattices = T.tiling_facts(tiling)["sublattices"]
+    cells = [(i, j, s)[:T.site_columns(tiling)] for i in range(box) for j in range(box) for s in range(sublattices)]
+    sites = draw(st.lists(st.sampled_from(cells), min_size=1, max_size=min(len(cells), 15), unique=True))
+    # Sites given outside the box stand for their images inside it.
+    shifts = draw(st.lists(st.tuples(st.integers(-2, 2), st.integers(-2, 2)), min_size=len(sites), max_size=len(sites)))
+    given_sites = [(s[0] + box * a, s[1] + box * b) + tuple(s[2:]) for s, (a, b) in zip(sites, shifts)]
+    return tiling, box, sites, given_sites
+
+
+@fast(60)
+@given(state=box_states())
+def test_clusters_partition_a_box_state(state):
+    tiling, box, sites, given_sites = state
+    found = clusters(given_sites, box, tiling)
+    assert sum(len(c) for c, _ in found) == len(sites)
+    reduced = {tuple(int(v) for v in (c[0] % box, c[1] % box) + tuple(c[2:])) for coords, _ in found for c in coords}
+    assert reduced == set(sites)
+    assert all(rank in (0, 1, 2) for _, rank in found)
+    assert [len(c) for c, _ in found] == sorted((len(c) for c, _ in found), reverse=True)
+    kind, size = classify_aggregate(given_sites, box, tiling)
+    assert kind in ("gas", "disk", "fiber", "bulk", "bulk_with_holes") and size == len(found[0][0])
+
+
+@fast(40)
+@given(state=box_states(), bad=st.sampled_from(["box 0", "box -3", "box 2.5", "twice", "columns", "half"]))
+def test_clusters_refuse_invalid_box_states_by_name(state, bad):
+    tiling, box, sites, given_sites = state
+    name = "box" if bad.startswith("box") else "sites"
+    if bad.startswith("box"):
+        box = {"box 0": 0, "box -3": -3, "box 2.5": 2.5}[bad]
+    elif bad == "twice":
+        a, b = given_sites[0][:2]
+        given_sites = given_sites + [(a + box, b) + tuple(given_sites[0][2:])]  # the same site, an image apart
+    elif bad == "columns":
+        given_sites = [s + (0,) for s in given_sites]
+    else:
+        given_sites = np.asarray(given_sites, float) + 0.5
+    refused(lambda: clusters(given_sites, box, tiling), name)
+    refused(lambda: classify_aggregate(given_sites, box, tiling), name)
+
+
 ANNEAL_ARGUMENTS = {
     "g": st.one_of(NEGATIVE, NON_FINITE, NOT_NUMBERS),
     "box": st.one_of(st.integers(max_value=1), st.just(2.5), NOT_NUMBERS),
@@ -534,6 +591,30 @@ def test_chain_relaxes_to_its_exact_solution(n, k, kc, eps):
         assert r.status != "gradient tolerance reached" and r.gradient_norm <= 100 * tol * k * eps
     exact = chain.analytic_shift(n, k, kc, eps)
     assert np.allclose(r.shift, exact, rtol=0, atol=1e-5 * np.abs(exact).max())
+
+
+@fast(30)
+@given(n=st.integers(1, 8), where=st.integers(0, 17), value=NON_FINITE, face=st.sampled_from(["up", "down"]))
+def test_chain_energy_refuses_non_finite_positions(n, where, value, face):
+    x_up, x_down = np.arange(n + 1.0), np.arange(n + 1.0)
+    (x_up if face == "up" else x_down)[where % (n + 1)] = value
+    refused(lambda: chain.energy(n, 1.0, 0.01, 0.01, x_up, x_down), "x", ValueError)
+
+
+@fast(20)
+@given(cut=st.integers(0, 2), value=NON_FINITE, where=st.sampled_from(["state", "corners"]))
+def test_periodic_images_refuse_non_finite_input(cut, value, where):
+    particle = pf.Hexagon()
+    topo = T.fiber(T.min_fiber_width(cut), cut)
+    state = topo.reference_state()
+    corners = R.particle_corners(particle, topo, state)
+    if where == "state":
+        state = state.copy()
+        state[-1] = value
+    else:
+        corners = corners.copy()
+        corners[0, 0, 0] = value
+    refused(lambda: R.periodic_images(topo, state, corners), where, ValueError)
 
 
 CHAIN_ARGUMENTS = {
