@@ -11,6 +11,7 @@ void export_chain(py::module_& m) {
             ChainParameters p{n, k, kc, eps};
             p.validate();
             if (x.size() != 2 * (n + 1)) throw std::invalid_argument("x must have 2 (n + 1) entries");
+            if (!x.allFinite()) throw std::invalid_argument("x contains non-finite values");
             Vector g;
             const double e = chain_energy(p, x, g);
             return py::make_tuple(e, g);

@@ -115,7 +115,13 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
             "Runs blocks of steps[k] attempted moves at temperatures[k] (GIL released). Returns a dict: energy (B,) "
             "after each block, accepted (B,) moves per block, and with record_sites the sorted occupied site indices "
             "(B, n) (site index sublattice + S (i + L j) for S sublattices per cell) after each block.")
-        .def("step", &MC::step, py::arg("T"), "One attempted move; True if accepted.")
+        .def(
+            "step",
+            [](MC& mc, double T) {
+                if (!(T >= 0) || !std::isfinite(T)) throw std::invalid_argument("T must be non-negative and finite");
+                return mc.step(T);
+            },
+            py::arg("T"), "One attempted move; True if accepted.")
         .def_property_readonly("energy", &MC::energy, "Running energy: -g * bonds + deformation.")
         .def_property_readonly("deformation", &MC::deformation, "Running sum of relaxed deformation energies.")
         .def_property_readonly("bonds", &MC::bonds, "Bound pairs of sides in the box.")
@@ -140,7 +146,13 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                                "Lattice point operations under which cluster shapes share their energy (shape_key.hpp).")
         .def_property("rng_state", &MC::rng_state, &MC::set_rng_state,
                       "State of the std::mt19937_64 as its stream representation.")
-        .def("set_deformation", &MC::set_deformation, py::arg("deformation"),
+        .def(
+            "set_deformation",
+            [](MC& mc, double deformation) {
+                if (!std::isfinite(deformation)) throw std::invalid_argument("deformation must be finite");
+                mc.set_deformation(deformation);
+            },
+            py::arg("deformation"),
              "Overrides the running deformation sum (exact resumption from a checkpoint).")
         .def_property(
             "counters", [](const MC& mc) { return counters_dict(mc.counters); },
@@ -164,7 +176,7 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
         [cls = m.attr(class_name)](const Model& model, py::args args, py::kwargs kwargs) {
             return cls(model, *args, **kwargs);
         },
-        "MonteCarlo(model, g, box, n, seed, ...): the Monte Carlo class of the model's type.");
+        py::arg("model"), "MonteCarlo(model, g, box, n, seed, ...): the Monte Carlo class of the model's type.");
 }
 
 }  // namespace pyfrustrate

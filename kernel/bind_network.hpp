@@ -7,8 +7,28 @@
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <pybind11/typing.h>
 
 namespace pyfrustrate {
+
+// The optional StiffnessCache of the relaxations. Typed `StiffnessCache | None` (a raw pointer
+// defaulting to nullptr would be written `StiffnessCache = None` in the signature, which type
+// checkers reject as an implicit Optional); anything else is a TypeError naming the parameter.
+using OptionalCache = pybind11::typing::Optional<StiffnessCache>;
+
+inline StiffnessCache* cache_pointer(const OptionalCache& cache) {
+    if (cache.is_none()) return nullptr;
+    if (!pybind11::isinstance<StiffnessCache>(cache))
+        throw pybind11::type_error("cache must be a StiffnessCache or None, got " +
+                                   std::string(pybind11::str(pybind11::type::of(cache).attr("__name__"))));
+    return cache.cast<StiffnessCache*>();
+}
+
+// A NaN or inf argument would come back as a NaN energy, silently: refused, naming the argument.
+template <class Vec>
+void check_finite(const char* name, const Vec& v) {
+    if (!v.allFinite()) throw std::invalid_argument(std::string(name) + " contains non-finite values");
+}
 
 template <class Model>
 void check_state(const Network<Model>& net, const Vector& x) {
@@ -42,6 +62,7 @@ void bind_particle_contract(Class& cls) {
         .def(
             "energy_of_displacement",
             [](const Model& model, const typename Model::Corners& disp) {
+                check_finite("displacement", disp);
                 typename Model::Corners g = Model::Corners::Zero();
                 typename Model::Hessian h = Model::Hessian::Zero();
                 const double e = model.energy_of_displacement(disp, &g, &h);
@@ -62,6 +83,7 @@ void bind_evaluate_terms(Class& cls, const char* doc) {
     cls.def(
         "evaluate",
         [](const Model& model, const typename Model::Corners& corners) {
+            check_finite("corners", corners);
             typename Model::Corners g = Model::Corners::Zero();
             typename Model::Hessian h = Model::Hessian::Zero();
             const auto terms = model.terms(corners, &g, &h);
@@ -150,7 +172,8 @@ void export_network_functions(pybind11::module_& m) {
     m.def(
         "relax_lbfgs",
         [](const Model& model, const Topology& t, const Vector& x0, double tol, int max_iter, int memory,
-           StiffnessCache* cache) {
+           const OptionalCache& cache_arg) {
+            StiffnessCache* cache = cache_pointer(cache_arg);
             MinimizeResult r;
             {
                 py::gil_scoped_release release;
@@ -159,13 +182,14 @@ void export_network_functions(pybind11::module_& m) {
             return to_dict(r);
         },
         py::arg("model"), py::arg("topology"), py::arg("x0"), py::arg("tol"), py::arg("max_iter"), py::arg("memory") = 10,
-        py::arg("cache") = nullptr,
+        py::arg("cache") = py::none(),
         "NLopt L-BFGS from x0 until max |gradient| <= tol, finished by Newton steps if NLopt stops short; returns a "
         "dict (x, displacement, energy, converged, iterations, gradient_norm, status, newton_steps, ...).");
     m.def(
         "relax_newton",
-        [](const Model& model, const Topology& t, double tol, int max_iter, StiffnessCache* cache, bool exact,
+        [](const Model& model, const Topology& t, double tol, int max_iter, const OptionalCache& cache_arg, bool exact,
            double switch_ratio) {
+            StiffnessCache* cache = cache_pointer(cache_arg);
             MinimizeResult r;
             {
                 py::gil_scoped_release release;
@@ -177,14 +201,15 @@ void export_network_functions(pybind11::module_& m) {
             }
             return to_dict(r);
         },
-        py::arg("model"), py::arg("topology"), py::arg("tol"), py::arg("max_iter"), py::arg("cache") = nullptr,
+        py::arg("model"), py::arg("topology"), py::arg("tol"), py::arg("max_iter"), py::arg("cache") = py::none(),
         py::arg("exact") = false, py::arg("switch_ratio") = 0.9,
         "Newton steps from the linear solution until max |gradient| <= tol: reference stiffness while that is "
         "cheaper, then the exact Hessian (exact=True: from the start; switch_ratio: the slowest contraction of "
         "the force per reference step tolerated whatever the costs); returns a dict like relax_lbfgs.");
     m.def(
         "relax_linear",
-        [](const Model& model, const Topology& t, StiffnessCache* cache) {
+        [](const Model& model, const Topology& t, const OptionalCache& cache_arg) {
+            StiffnessCache* cache = cache_pointer(cache_arg);
             MinimizeResult r;
             {
                 py::gil_scoped_release release;
@@ -192,7 +217,7 @@ void export_network_functions(pybind11::module_& m) {
             }
             return to_dict(r);
         },
-        py::arg("model"), py::arg("topology"), py::arg("cache") = nullptr,
+        py::arg("model"), py::arg("topology"), py::arg("cache") = py::none(),
         "Linearised solve about the bulk reference (sparse Cholesky), exact as eps -> 0.");
 }
 

@@ -23,6 +23,7 @@ void export_random_hexagon(py::module_& m) {
         .def(
             "evaluate",
             [](const RandomHexagonModel& model, const RandomHexagonModel::Corners& corners) {
+                check_finite("corners", corners);
                 RandomHexagonModel::Corners g = RandomHexagonModel::Corners::Zero();
                 RandomHexagonModel::Hessian h = RandomHexagonModel::Hessian::Zero();
                 const double e = model.energy(corners, &g, &h);

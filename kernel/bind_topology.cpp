@@ -166,6 +166,8 @@ void export_topology(py::module_& m) {
                     throw std::invalid_argument("state has " + std::to_string(state.size()) + " entries, expected " +
                                                 std::to_string(expected));
                 if (points.cols() != 2) throw std::invalid_argument("points must have shape (m, 2)");
+                if (!state.allFinite()) throw std::invalid_argument("state contains non-finite values");
+                if (!points.allFinite()) throw std::invalid_argument("points contain non-finite values");
                 const Eigen::VectorXd period_displacement =
                     state.tail(t.n_period_parameters()) - t.reference_period_parameters();
                 const PeriodMap map(t, period_displacement.data(), std::max(std::abs(n1), std::abs(n2)));

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -125,7 +126,7 @@ def relax_catalogue(particle, candidates, method: str = "auto", tol: float = 1e-
         iterator = tqdm(candidates, desc=description, unit="aggregate", mininterval=1.0)
     for c in iterator:
         start = time.perf_counter()
-        kwargs = {"x0": "linear"} if method == "lbfgs" else {}
+        kwargs: dict[str, Any] = {"x0": "linear"} if method == "lbfgs" else {}
         r = relax(particle, c.topology, method=method, tol=tol, **kwargs)
         rows.append((c.family, c.size, c.topology.size, r.n_particles, r.energy_per_particle,
                      r.n_bonds / r.n_particles, r.converged, r.iterations, time.perf_counter() - start))
@@ -164,6 +165,9 @@ FINITE_SEGMENTS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0, 4.
 class EnergiesLinearInG:
     """Candidates whose energies are ``deformation - g * bonds`` (arrays ``deformation`` and
     ``bonds``, one entry each): the lowest at each binding energy ``g``."""
+
+    deformation: np.ndarray  # provided by the subclasses (dataclass fields there)
+    bonds: np.ndarray
 
     def total(self, g) -> np.ndarray:
         """Total energy ``deformation - g * bonds`` of each candidate, shape (n, *shape(g))."""
@@ -236,7 +240,7 @@ def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", to
     rows, shapes = [], []
     for segment in segments:
         sites = topology.stadium_sites(n, segment)
-        kwargs = {"x0": "linear"} if method == "lbfgs" else {}
+        kwargs: dict[str, Any] = {"x0": "linear"} if method == "lbfgs" else {}
         r = relax(particle, topology.cluster(sites), method=method, tol=tol, **kwargs)
         shapes.append(sites)
         rows.append((r.energy, r.n_bonds, *topology.gyration_dimensions(sites), r.converged))

@@ -38,7 +38,7 @@ def decay_modes(M) -> np.ndarray:
     """The two decaying modes ``z`` (|z| < 1) of the half-plane's transfer problem for the
     matrix ``M``, slowest first (a complex pair has one modulus). Their decay lengths are
     ``-ROW_SPACING / ln|z|``."""
-    z = rp.transfer_roots(rp.rest_hessian(M))
+    z = rp.transfer_roots(rp.rest_hessian(rp.checked_matrix(M)))
     z = z[np.argsort(np.abs(z - 1))][4:]  # the four roots at z = 1 are translations and strains
     inside = z[np.abs(z) < 1]
     # The companion pencil pads the degree-8 polynomial with roots at z = 0 (numerically tiny):

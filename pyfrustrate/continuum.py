@@ -64,8 +64,14 @@ _SQRT3 = math.sqrt(3.0)
 
 
 def _checked(name, value, lo=-np.inf, hi=np.inf, lo_open=False, hi_open=False, finite=True):
-    """``value`` as a float array, or ValueError naming ``name`` if NaN or out of range."""
-    a = np.asarray(value, dtype=float)
+    """``value`` as a float array, or ValueError naming ``name`` if NaN, out of range or not
+    numbers at all (numpy's own message would not say which argument)."""
+    try:
+        if np.asarray(value).dtype.kind in "USO":
+            raise TypeError  # text ("1.0") would convert to a float, but is no number
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number or an array of numbers, got {value!r}") from None
     if np.isnan(a).any():
         raise ValueError(f"{name} must not be NaN")
     if finite and not np.isfinite(a).all():

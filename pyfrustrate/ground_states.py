@@ -21,6 +21,7 @@ best at a binding energy ``g`` is the lowest of linear functions of ``g``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -144,9 +145,9 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int = 4, method: 
         sites = [(i, j) for j in range(full) for i in range(box)] + [(i, full) for i in range(rest)]
         sites = np.array(sites)
         if full + (rest > 0) < box:  # a slab that fills the box would wrap both ways
-            fibre = topology.Topology("fiber", sites, "fiber", [(box, 0), (0, 0)], curved=False,
+            fibre = topology.Topology("fiber", sites, "fiber", np.array([(box, 0), (0, 0)]), curved=False,
                                       label=f"wrapping fibre of {n} in {box}")
-            kwargs = {"x0": "linear"} if method == "lbfgs" else {}
+            kwargs: dict[str, Any] = {"x0": "linear"} if method == "lbfgs" else {}
             r = relax(particle, fibre, method=method, tol=tol, **kwargs)
             rows.append(("wrapping_fiber", r.energy, r.n_bonds, sites, r.converged))
 

@@ -174,7 +174,7 @@ class AnnealResult(BoxState):
     elapsed: float = 0.0
     resumed: bool = False
     tiling: str = "hexagon"
-    state: AnnealState = field(default=None, repr=False)
+    state: AnnealState | None = field(default=None, repr=False)
 
     @property
     def cache_hit_rate(self) -> float:
@@ -522,17 +522,17 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     if checkpoint is not None:
         save(last, complete=True)
 
-    energies, accepted = np.asarray(energies, float), np.asarray(accepted, np.int64)
+    energy_trace, accepted_per_block = np.asarray(energies, float), np.asarray(accepted, np.int64)
     stage_attempted = np.bincount(stage_of_block, weights=block_steps, minlength=n_stages)
-    stage_accepted = np.bincount(stage_of_block, weights=accepted, minlength=n_stages)
+    stage_accepted = np.bincount(stage_of_block, weights=accepted_per_block, minlength=n_stages)
     with np.errstate(invalid="ignore", divide="ignore"):
         stage_acceptance = stage_accepted / stage_attempted
     counters = mc.counters
     return AnnealResult(sites=np.asarray(mc.particles), box=box, n=n, g=g, energy=float(mc.energy),
                         bonds=int(mc.bonds), deformation=float(mc.deformation), steps=cum_steps.copy(),
-                        temperature=temps, energy_trace=energies, accepted=accepted,
+                        temperature=temps, energy_trace=energy_trace, accepted=accepted_per_block,
                         stage_acceptance=stage_acceptance,
-                        acceptance=float(accepted.sum() / max(1, total_steps)), counters=counters, seed=seed,
+                        acceptance=float(accepted_per_block.sum() / max(1, total_steps)), counters=counters, seed=seed,
                         params=params, elapsed=time.perf_counter() - start, resumed=resumed,
                         tiling=particle.tiling, state=last)
 
@@ -540,6 +540,26 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
 # ---------------------------------------------------------------------------------------------
 # Clusters and snapshots
 # ---------------------------------------------------------------------------------------------
+
+def _box_sites(sites, box: int, tiling: str) -> np.ndarray:
+    """Sites of a box state reduced into it, or ValueError naming ``sites``: reshaping any array
+    into columns would make sites of garbage, and a site held twice would read as two clusters."""
+    columns = site_columns(tiling)
+    a = np.asarray(sites)
+    if a.size == 0:
+        return np.zeros((0, columns), np.int64)
+    if a.ndim != 2 or a.shape[1] != columns:
+        raise ValueError(f"sites must have shape (n, {columns}) for the {tiling} tiling, got {a.shape}")
+    if a.dtype.kind not in "iu" and not (a.dtype.kind == "f" and np.all(np.isfinite(a)) and np.all(a == np.round(a))):
+        raise ValueError("sites must be integer lattice coordinates")
+    a = a.astype(np.int64)
+    a[:, :2] %= box
+    if columns == 3 and not np.all((a[:, 2] >= 0) & (a[:, 2] < tiling_facts(tiling)["sublattices"])):
+        raise ValueError("sites: sublattice must be 0 or 1")
+    if len({tuple(s) for s in a.tolist()}) < len(a):
+        raise ValueError("sites: a site is occupied twice (modulo the box)")
+    return a
+
 
 def clusters(sites, box, tiling="hexagon") -> list[tuple[np.ndarray, int]]:
     """Connected clusters of occupied sites in the periodic ``box`` (edge neighbours of the tiling).
@@ -549,9 +569,8 @@ def clusters(sites, box, tiling="hexagon") -> list[tuple[np.ndarray, int]]:
     lattice step apart), ``rank`` is 0 for a finite cluster, 1 if it wraps around the box in
     one direction, 2 in two.
     """
-    columns = site_columns(tiling)
-    sites = np.asarray(sites, dtype=np.int64).reshape(-1, columns).copy()
-    sites[:, :2] %= box
+    box = _integer("box", box, 1)
+    sites = _box_sites(sites, box, tiling)
 
     def wrapped(v):
         return (v[0] % box, v[1] % box) + tuple(v[2:])
@@ -599,7 +618,10 @@ def classify_aggregate(sites, box, tiling="hexagon") -> tuple[str, int]:
     A heuristic with the limits of a finite box: an aggregate narrower than the optimal fibre
     width but too short to show it (few particles) reads as a disk.
     """
-    coords, rank = clusters(sites, box, tiling)[0]
+    found = clusters(sites, box, tiling)
+    if not found:
+        raise ValueError("sites: no particle to classify")
+    coords, rank = found[0]
     size = len(coords)
     if size < 3:
         return "gas", size

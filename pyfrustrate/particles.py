@@ -11,7 +11,7 @@ model inherits those tests by being listed there.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import ClassVar, Protocol, runtime_checkable
+from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -40,6 +40,28 @@ class Particle(Protocol):
     def bulk_energy_per_particle(self) -> float: ...
 
 
+def _real(name: str, value) -> float:
+    """``value`` as a float, or TypeError naming ``name``: float() alone would take text
+    ("1.0") and report other types without saying which parameter they were."""
+    try:
+        if isinstance(value, (str, bytes)):
+            raise TypeError
+        return float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a real number, got {value!r}") from None
+
+
+def _corners(corners) -> np.ndarray:
+    """One particle's corners as the flat (12,) array the kernel's ``evaluate`` takes, or
+    ValueError: a corner at NaN or inf would come back as a NaN energy."""
+    c = np.asarray(corners, dtype=float)
+    if c.size != 12 or c.shape not in ((12,), (6, 2)):
+        raise ValueError(f"corners must have shape (6, 2) or (12,), got {c.shape}")
+    if not np.all(np.isfinite(c)):
+        raise ValueError("corners contain non-finite values")
+    return c.reshape(12)
+
+
 @dataclass(frozen=True)
 class _SpringParticle:
     """Shared by the particles built of two spring triangles: parameters, kernel evaluator,
@@ -49,13 +71,16 @@ class _SpringParticle:
     kc: float = 0.01
     k_area: float = 0.0
     eps: float = 0.01
-    _kernel_model: object = field(init=False, repr=False, compare=False)
+    _kernel_model: _kernel.HexagonModel | _kernel.TriangleModel = field(init=False, repr=False, compare=False)
     tiling: ClassVar[str] = "hexagon"
-    _kernel_class: ClassVar[object] = None
+    _kernel_class: ClassVar[Any] = None
 
     def __post_init__(self):
+        for name in ("k", "kc", "k_area", "eps"):
+            _real(name, getattr(self, name))
         if not (0 < self.eps < 1):
             raise ValueError(f"eps must lie in (0, 1), got {self.eps!r}")
+        # The kernel checks k, kc and k_area (kernel/hexagon.hpp, triangle.hpp), naming them.
         object.__setattr__(self, "_kernel_model",
                            self._kernel_class(float(self.k), float(self.kc), float(self.k_area), float(self.eps)))
 
@@ -70,12 +95,20 @@ class _SpringParticle:
         ``k_area = sqrt(3) k (3 nu - 1) / (2 (1 - nu))``, for ``-1 < nu < 1``: negative ``nu``
         (auxetic sheets) takes ``k_area`` below ``-sqrt(3) k / 2``, down to the stability limit
         ``-sqrt(3) k`` at ``nu = -1``. ``nu = 1`` is singular (``k_area`` infinite): use ``nu < 1``."""
-        if not np.isfinite(ell) or ell <= 0:
+        if not np.isfinite(_real("ell", ell)) or ell <= 0:
             raise ValueError(f"ell must be positive and finite, got {ell!r}")
-        if not (-1 < nu < 1):
+        if not (-1 < _real("nu", nu) < 1):
             raise ValueError(f"nu must lie in (-1, 1) for a discrete particle, got {nu!r}")
-        p = continuum.particle_parameters(ell, nu, 0.0, k=k, eps=eps, tiling=cls.tiling)
-        return cls(k=k, kc=float(p.kc), k_area=float(p.k_area), eps=eps)
+        with np.errstate(over="ignore", divide="ignore"):  # refused just below, by name
+            p = continuum.particle_parameters(ell, nu, 0.0, k=k, eps=eps, tiling=cls.tiling)
+        kc, k_area = float(p.kc), float(p.k_area)
+        # Extreme ell overflow kc to inf or flush it to 0 (ell = inf): neither is the particle
+        # asked for, and the kernel's complaint would name kc, which the caller never gave.
+        if not (0 < kc < np.inf):
+            raise ValueError(f"ell = {ell!r} is out of reach in floating point: kc = k / (8 (1 - nu) ell^2) = {kc!r}")
+        if not np.isfinite(k_area):
+            raise ValueError(f"nu = {nu!r} is too close to 1: k_area = {k_area!r}")
+        return cls(k=k, kc=kc, k_area=k_area, eps=eps)
 
     @property
     def continuum(self):
@@ -99,8 +132,7 @@ class _SpringParticle:
         (12, 12) of one particle from its corners, shape (6, 2) or (12,), in the kernel's slot
         order (``Hexagon``: counter-clockwise from 30 degrees, even slots red; ``Triangle``:
         yellow nodes at the vertices v0, v1, v2, then red ones)."""
-        c = np.asarray(corners, dtype=float).reshape(12)
-        return self._kernel_model.evaluate(c)
+        return self._kernel_model.evaluate(_corners(corners))
 
 
 @dataclass(frozen=True)
@@ -124,7 +156,7 @@ class Hexagon(_SpringParticle):
     """
 
     tiling: ClassVar[str] = "hexagon"
-    _kernel_class: ClassVar[object] = _kernel.HexagonModel
+    _kernel_class: ClassVar[type[_kernel.HexagonModel]] = _kernel.HexagonModel
 
 
 @dataclass(frozen=True)
@@ -141,7 +173,7 @@ class Triangle(_SpringParticle):
     """
 
     tiling: ClassVar[str] = "triangle"
-    _kernel_class: ClassVar[object] = _kernel.TriangleModel
+    _kernel_class: ClassVar[type[_kernel.TriangleModel]] = _kernel.TriangleModel
 
 
 #: The spring particle of each tiling.

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+from typing import Any
 
 import matplotlib
 
@@ -23,7 +24,7 @@ YELLOW, RED_CORNER, BLUE_SPRING = "#e6b800", "#d3002d", "#3b78c2"
 CORNER_COLORS = [RED_CORNER, YELLOW] * 3
 DISTANCE_COLORS = [YELLOW] * 3 + [RED_CORNER] * 3 + [BLUE_SPRING] * 3
 
-STYLE = {
+STYLE: dict[str, Any] = {
     "font.size": 9, "axes.labelsize": 9, "axes.titlesize": 9, "legend.fontsize": 8,
     "xtick.labelsize": 8, "ytick.labelsize": 8, "figure.dpi": 150, "savefig.dpi": 200,
     "axes.spines.top": False, "axes.spines.right": False, "pdf.fonttype": 42,
@@ -37,7 +38,7 @@ OUTLINE_SLOTS = {"hexagon": [0, 1, 2, 3, 4, 5], "triangle": [0, 1, 2]}
 
 def figure(width_cm: float = 17.8, height_cm: float = 8.0, **kwargs):
     """A figure in the journal's column widths (8.6 cm single, 17.8 cm double)."""
-    plt.rcParams.update(STYLE)
+    plt.rcParams.update(STYLE)  # type: ignore[arg-type]  # matplotlib types its keys as a Literal of every name
     return plt.figure(figsize=(width_cm / 2.54, height_cm / 2.54), **kwargs)
 
 
@@ -113,7 +114,7 @@ def draw_distance_definitions(ax, corners, pairs, colors=None, fontsize: float =
     segments = np.array([(c[a], c[b]) for a, b in pairs] + outline)
     ax.plot(*np.vstack([c, c[:1]]).T, color=BLUE_SPRING, lw=0.6, ls=":", zorder=0)
     centre = c.mean(axis=0)
-    placed = []
+    placed: list[np.ndarray] = []
     for i, ((a, b), color) in enumerate(zip(pairs, colors)):
         ax.plot(*c[[a, b]].T, color=color, lw=linewidth, zorder=1)
         mid = 0.5 * (c[a] + c[b])
@@ -219,6 +220,7 @@ def draw_ansatz_diagram(fig, ax, diagram: dict, continuum: dict):
     are boundaries: ``continuum_boundaries``). Returns the fibre and disk meshes, for
     ``size_colorbars``."""
     from matplotlib.colors import LogNorm
+    from matplotlib.artist import Artist
     from matplotlib.patches import Patch
 
     nu, G, phase, length = diagram["nu"], diagram["Gamma"], diagram["phase"], diagram["length"]
@@ -242,10 +244,10 @@ def draw_ansatz_diagram(fig, ax, diagram: dict, continuum: dict):
     ax.set_ylim(0, 1)
     ax.set_xlabel(r"line tension $\Gamma$")
     ax.set_ylabel(r"Poisson ratio $\nu$")
-    shown = (("bulk_with_holes", "bulk with holes"), ("disk", "disk"), ("fiber", "fibre"), ("bulk", "bulk"))
+    shown: tuple[tuple[str, str], ...] = (("bulk_with_holes", "bulk with holes"), ("disk", "disk"), ("fiber", "fibre"), ("bulk", "bulk"))
     if np.any(phase == "gas"):
         shown += (("gas", "single particles"),)
-    handles = [Patch(color=PHASE_COLORS[p], label=label) for p, label in shown]
+    handles: list[Artist] = [Patch(color=PHASE_COLORS[p], label=label) for p, label in shown]
     handles.append(plt.Line2D([], [], color="k", ls="--", lw=0.8, label=r"continuum ($\ell\to\infty$)"))
     ax.legend(handles=handles, loc="lower center", bbox_to_anchor=(0.5, 1.01), ncol=3, fontsize=7, frameon=False)
     return meshes

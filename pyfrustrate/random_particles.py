@@ -23,6 +23,7 @@ import numpy as np
 import scipy.linalg
 
 from . import _kernel
+from .particles import _corners
 from .topology import SQRT3
 
 DISTANCE_PAIRS = tuple(tuple(p) for p in _kernel.RandomHexagonModel.distance_pairs)
@@ -97,6 +98,27 @@ def distance_jacobian(corners=REST_CORNERS) -> np.ndarray:
     return J
 
 
+def checked_matrix(M) -> np.ndarray:
+    """``M`` as a (9, 9) float array if it is a valid elasticity matrix (finite, symmetric,
+    positive semi-definite, not zero: the kernel's own checks, ``kernel/random_hexagon.hpp``),
+    else ValueError naming ``M``. A zero or non-finite ``M`` would otherwise give a
+    boundary-layer length of 0 or NaN without complaint."""
+    M = np.asarray(M, dtype=float)
+    if M.shape != (9, 9):
+        raise ValueError(f"M must have shape (9, 9), got {M.shape}")
+    _kernel.RandomHexagonModel(M, 0.5)
+    return M
+
+
+def _finite_stack(name: str, Ms) -> np.ndarray:
+    Ms = np.asarray(Ms, float)
+    if Ms.shape[-2:] != (9, 9) or (name == "Ms" and Ms.ndim != 3):
+        raise ValueError(f"{name} must have shape {'(n, 9, 9)' if name == 'Ms' else '(..., 9, 9)'}, got {Ms.shape}")
+    if not np.all(np.isfinite(Ms)):
+        raise ValueError(f"{name} must be finite")
+    return Ms
+
+
 def pseudo_moduli(M) -> dict:
     """Single-particle proxies of the continuum moduli (supplement, "Predicting the boundary
     layer thickness"), for one matrix (9, 9) or a stack (..., 9, 9).
@@ -109,9 +131,7 @@ def pseudo_moduli(M) -> dict:
     ``ell_eigen = 1 / sqrt(lowest eigenvalue of M)`` (the predictor that fails, Fig. S5).
     For the simple particle they coincide with the continuum mapping up to O(kc/k) (tested).
     """
-    M = np.asarray(M, float)
-    if M.shape[-2:] != (9, 9):
-        raise ValueError(f"M must have shape (..., 9, 9), got {M.shape}")
+    M = _finite_stack("M", M)
     out = {name: np.einsum("i,...ij,j->...", v, M, v) / HEXAGON_AREA for name, v in PSEUDO_MODULUS_VECTORS.items()}
     for side in ("up", "down"):
         K, mu = out[f"K_{side}"], out[f"mu_{side}"]
@@ -194,7 +214,7 @@ def boundary_layer_length(M=None, *, hessian=None) -> float:
     particle, e.g. ``Hexagon.evaluate`` at the regular hexagon with ``eps`` tiny)."""
     if (M is None) == (hessian is None):
         raise ValueError("give exactly one of M or hessian")
-    H = rest_hessian(M) if M is not None else np.asarray(hessian, float)
+    H = rest_hessian(checked_matrix(M)) if M is not None else np.asarray(hessian, float)
     if H.shape != (12, 12) or not np.all(np.isfinite(H)):
         raise ValueError(f"hessian must be a finite (12, 12) array, got shape {H.shape}")
     z = transfer_roots(H)
@@ -216,9 +236,7 @@ def boundary_layer_lengths(Ms, chunk: int = 20000) -> np.ndarray:
     roots of unity (FFT). About 10 times faster than the companion eigenproblem
     (``benchmarks/bench_random.py``), same values to ~1e-11 (tested); the relative error grows
     like ell^2 (5e-5 at ell = 200)."""
-    Ms = np.asarray(Ms, float)
-    if Ms.ndim != 3 or Ms.shape[1:] != (9, 9):
-        raise ValueError(f"Ms must have shape (n, 9, 9), got {Ms.shape}")
+    Ms = _finite_stack("Ms", Ms)
     out = np.empty(len(Ms))
     J = distance_jacobian()
     w = np.exp(2j * np.pi * np.arange(16) / 16)
@@ -356,8 +374,7 @@ class RandomHexagon:
     def evaluate(self, corners) -> dict:
         """Energy, distances (9,), gradient (12,) and Hessian (12, 12) of one particle from its
         corners, shape (6, 2) or (12,), slots counter-clockwise from 30 degrees."""
-        c = np.asarray(corners, dtype=float).reshape(12)
-        return self._kernel_model.evaluate(c)
+        return self._kernel_model.evaluate(_corners(corners))
 
 
 # --------------------------------------------------------------------------------------------

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _kernel
-from .topology import Topology
+from .topology import Topology, tiling_facts
 
 METHODS = ("auto", "lbfgs", "linear", "newton")
 #: What ``method="auto"`` runs: Newton was the fastest exact method on every scene measured
@@ -155,17 +155,29 @@ def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5,
     A run that stops short of ``tol`` returns ``converged=False`` and emits a
     ``ConvergenceWarning`` with the reason; a non-finite energy raises ``RuntimeError``.
     """
+    _check_scene(particle, topology)
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    if not (tol > 0):
-        raise ValueError(f"tol must be positive, got {tol!r}")
+    if not (isinstance(tol, (int, float, np.floating, np.integer)) and 0 < tol < np.inf):
+        # tol = inf would stop every method at once and call the start converged.
+        raise ValueError(f"tol must be positive and finite, got {tol!r}")
+    for name, value in (("max_iter", max_iter), ("memory", memory)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 1 <= value < 2**31:
+            raise ValueError(f"{name} must be an integer in [1, 2**31), got {value!r}")
     if cache is not None:
         if not isinstance(cache, StiffnessCache):
             raise ValueError(f"cache must be a StiffnessCache, got {type(cache).__name__}")
         if cache.topology is not topology:
             raise ValueError(f"cache: it was made for {cache.topology.label}, not for {topology.label}")
+    parts = _connected_parts(topology)
     if method == "auto":
-        method = "lbfgs" if x0 is not None else AUTO_METHOD
+        # The linear and Newton solves pin one rigid motion per topology: a topology in several
+        # pieces (or hinged at single corners) keeps the others' free, and its stiffness is
+        # singular. L-BFGS needs no pins.
+        method = "lbfgs" if x0 is not None or parts > 1 else AUTO_METHOD
+    elif method in ("linear", "newton") and parts > 1:
+        raise ValueError(f"topology: {topology.label} falls into {parts} pieces joined by no side, which method={method!r} "
+                         "cannot pin (each moves rigidly on its own): use method='lbfgs' or 'auto', or relax each piece")
     model = particle._kernel_model
     kcache = cache._kernel if cache is not None else None
     force_tol = tol * particle.force_scale
@@ -207,19 +219,66 @@ def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5,
                       int(out["factorizations"]), int(out["lbfgs_evaluations"]))
 
 
+def _connected_parts(topology: Topology) -> int:
+    """How many rigidly joined pieces a finite topology's particles form: particles are joined
+    when they share a side, the corners of both its ends (a triangle's vertex carries two, its
+    yellow and red nodes). Sharing one vertex only is a hinge (triangles touching at a tip),
+    free to turn. Periodic cells count as one piece: there images of one corner share an index
+    (the triangle bulk has two corners in all), and builders check their connectivity."""
+    if topology.periodicity != "none":
+        return 1
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    corners = np.asarray(topology.kernel.corners)
+    n_particles, per_particle = corners.shape
+    side = 2 * per_particle // tiling_facts(topology.tiling)["coordination"]  # corners at a side's two ends
+    incidence = coo_matrix((np.ones(corners.size), (np.repeat(np.arange(n_particles), per_particle), corners.ravel())),
+                           shape=(n_particles, topology.n_corners)).tocsr()
+    shared = (incidence @ incidence.T).tocoo()
+    joined = shared.data >= side
+    sides = coo_matrix((np.ones(int(joined.sum())), (shared.row[joined], shared.col[joined])),
+                       shape=(n_particles, n_particles))
+    return int(connected_components(sides, directed=False)[0])
+
+
+def _check_scene(particle, topology) -> None:
+    """TypeError naming the argument that is not a particle model or not a ``Topology`` (rather
+    than an AttributeError from deep inside). A particle of another tiling is the kernel's to refuse."""
+    if getattr(particle, "_kernel_model", None) is None or not hasattr(particle, "tiling"):
+        raise TypeError(f"particle must be a particle model (Hexagon, Triangle, RandomHexagon), got {particle!r}")
+    if not isinstance(topology, Topology):
+        raise TypeError(f"topology must be a pyfrustrate.topology.Topology, got {type(topology).__name__}")
+
+
+def _state(particle, topology: Topology, state) -> np.ndarray:
+    """``state`` as the flat float array the topology's degrees of freedom need, or ValueError."""
+    _check_scene(particle, topology)
+    try:
+        x = np.asarray(state, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"state must be an array of numbers, got {type(state).__name__}") from None
+    size = 2 * topology.n_corners + topology.kernel.n_period_parameters
+    if x.ndim != 1 or x.size != size:
+        raise ValueError(f"state must have shape ({size},) for this topology, got {x.shape}")
+    if not np.all(np.isfinite(x)):
+        raise ValueError("state contains non-finite values")
+    return x
+
+
 def energy(particle, topology: Topology, state) -> tuple[float, np.ndarray]:
     """Deformation energy at ``state`` and its gradient (same layout)."""
-    return _kernel.energy(particle._kernel_model, topology.kernel, np.asarray(state, dtype=float))
+    return _kernel.energy(particle._kernel_model, topology.kernel, _state(particle, topology, state))
 
 
 def particle_energies(particle, topology: Topology, state) -> np.ndarray:
     """Deformation energy of each particle, shape (n_particles,)."""
-    return np.asarray(_kernel.particle_energies(particle._kernel_model, topology.kernel, np.asarray(state, dtype=float)))
+    return np.asarray(_kernel.particle_energies(particle._kernel_model, topology.kernel, _state(particle, topology, state)))
 
 
 def particle_corners(particle, topology: Topology, state) -> np.ndarray:
     """Corner positions seen by each particle (periodic images applied), shape (n_particles, 6, 2)."""
-    c = _kernel.particle_corners(particle._kernel_model, topology.kernel, np.asarray(state, dtype=float))
+    c = _kernel.particle_corners(particle._kernel_model, topology.kernel, _state(particle, topology, state))
     return np.asarray(c).reshape(topology.n_particles, -1, 2)
 
 
@@ -232,6 +291,9 @@ def periodic_images(topology: Topology, state, corners, images=range(-1, 2)) -> 
     """
     state = np.asarray(state, float)
     corners = np.asarray(corners, float)
+    for name, value in (("state", state), ("corners", corners)):
+        if not np.all(np.isfinite(value)):
+            raise ValueError(f"{name} contains non-finite values")
     if topology.periodicity == "none":
         return corners
     shifts = [(a, b) for a in images for b in images] if topology.periodicity == "bulk" else [(n, 0) for n in images]

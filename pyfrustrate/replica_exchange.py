@@ -74,12 +74,12 @@ class ReplicaState:
     swap_rng: dict
     rounds: int = 0
     energy: list = field(default_factory=list)
-    swaps_attempted: np.ndarray = None
-    swaps_accepted: np.ndarray = None
+    swaps_attempted: np.ndarray | None = None
+    swaps_accepted: np.ndarray | None = None
     best_energy: float = math.inf
-    best_sites: np.ndarray = None
+    best_sites: np.ndarray | None = None
     round_trips: int = 0
-    last_end: np.ndarray = None
+    last_end: np.ndarray | None = None
 
 
 @dataclass
@@ -285,7 +285,7 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
     quench.set_deformation(final.replicas[cold]["deformation"])
     if quench_sweeps:
         quench.run(np.zeros(quench_sweeps), np.full(quench_sweeps, n, np.int64))
-    counters = {}
+    counters: dict[str, int] = {}
     for r in final.replicas:
         for key, value in r["counters"].items():
             counters[key] = counters.get(key, 0) + value

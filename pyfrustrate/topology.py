@@ -84,8 +84,23 @@ FIBER_AXES = {0: (1, 0), 1: (-1, 2), 2: (2, 1)}  # hexagon tiling
 TRIANGLE_FIBER_AXES = {0: (1, 0), 1: (1, 0), 2: (-1, 2)}
 
 
+def _whole(name: str, value, lo: int) -> int:
+    """``value`` as an int ``>= lo`` if it is a whole number (an integral float too), else
+    ValueError naming ``name``: ``int()`` alone raises OverflowError for inf and a message
+    without the parameter for NaN or text."""
+    try:
+        ok = not isinstance(value, bool) and float(value) == int(float(value)) and value >= lo
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        bound = "positive" if lo == 1 else "non-negative" if lo == 0 else f">= {lo}"
+        raise ValueError(f"{name} must be a {bound} integer, got {value!r}")
+    return int(value)
+
+
 def fiber_axis(cut: int, tiling: str = "hexagon") -> tuple[int, int]:
     """Lattice axis of a fibre cut (module docstring)."""
+    tiling_facts(tiling)  # an unknown tiling is refused, not given the triangle's axes
     axes = FIBER_AXES if tiling == "hexagon" else TRIANGLE_FIBER_AXES
     if cut not in axes:
         raise ValueError(f"cut must be 0, 1 or 2, got {cut!r}")
@@ -147,7 +162,7 @@ class Topology:
     size: float = float("nan")
     label: str = ""
     tiling: str = "hexagon"
-    kernel: object = field(init=False, repr=False, compare=False)
+    kernel: _kernel.Topology = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
         sites = np.asarray(self.sites)
@@ -231,8 +246,7 @@ def triangle_hexagon_sites(R: int) -> np.ndarray:
 def disk(R: int, tiling: str = "hexagon") -> Topology:
     """Compact aggregate of 'radius' ``R`` (``R = 0`` is a single particle): the hexagon of radius
     ``R`` around a site (hexagons) or of side ``R`` around a vertex (triangles)."""
-    if int(R) != R or R < 0:
-        raise ValueError(f"R must be a non-negative integer, got {R!r}")
+    R = _whole("R", R, 0)
     if tiling_facts(tiling)["sublattices"] == 1:
         sites = hexagon_sites(int(R))
     else:
@@ -352,14 +366,13 @@ def fiber(width: int, cut: int = 0, curved: bool = True, tiling: str = "hexagon"
     """
     tiling_facts(tiling)
     axis = fiber_axis(cut, tiling)
-    if int(width) != width or width < 1:
-        raise ValueError(f"width must be a positive integer, got {width!r}")
+    width = _whole("width", width, 1)
     sites = _fiber_cell(int(width), cut, tiling)
     if not _strip_is_connected(sites, axis, tiling):
         raise ValueError(f"width {width} is too narrow for cut {cut}: the strip falls apart "
                          f"(the narrowest connected one has width {min_fiber_width(cut, tiling)})")
     length = np.linalg.norm(cell_positions([axis])[0])
-    return Topology("fiber", sites, "fiber", [axis, (0, 0)], curved=curved,
+    return Topology("fiber", sites, "fiber", np.array([axis, (0, 0)]), curved=curved,
                     size=float(len(sites) * area_per_particle(tiling) / length),
                     label=f"fibre cut {cut} width {width}" + ("" if curved else " (straight)"), tiling=tiling)
 
@@ -367,7 +380,8 @@ def fiber(width: int, cut: int = 0, curved: bool = True, tiling: str = "hexagon"
 def bulk(tiling: str = "hexagon") -> Topology:
     """The infinite bulk, as a one-cell periodic cell (one hexagon, or an up and a down triangle)."""
     sites = [[0, 0]] if site_columns(tiling) == 2 else [[0, 0, 0], [0, 0, 1]]
-    return Topology("bulk", sites, "bulk", [(1, 0), (0, 1)], size=float("inf"), label="bulk", tiling=tiling)
+    return Topology("bulk", np.array(sites), "bulk", np.array([(1, 0), (0, 1)]), size=float("inf"), label="bulk",
+                    tiling=tiling)
 
 
 # Hole patterns: (periods, occupied sites of the cell), per tiling. Hexagons: 'honeycomb'

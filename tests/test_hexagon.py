@@ -694,7 +694,7 @@ def test_bad_relax_arguments_raise_value_error_naming_them(kwargs, name):
 
 def test_energy_of_a_wrong_state_raises_value_error():
     top = T.fiber(3, 0)
-    with pytest.raises(ValueError, match=r"\bx\b"):
+    with pytest.raises(ValueError, match=r"\bstate\b"):  # the Python argument's name, not the kernel's
         network_energy(pyfrustrate.Hexagon(), top, np.zeros(top.reference_state().size - 1))
     with pytest.raises(ValueError, match="non-finite"):
         network_energy(pyfrustrate.Hexagon(), top, np.full(top.reference_state().size, np.inf))
