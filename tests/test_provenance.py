@@ -90,7 +90,7 @@ SNAKEMAKE = Path(sys.executable).with_name("snakemake")
 @pytest.mark.skipif(not SNAKEMAKE.exists(), reason="snakemake is not installed beside this Python")
 def test_a_workflow_job_records_its_rule_params_and_wildcards(tmp_path):
     """A real job of the workflow (a Monte Carlo finite-size prediction, made small)."""
-    for name in ("workflow", "config", "figures"):
+    for name in ("workflow", "config", "figures", "benchmarks"):
         shutil.copytree(ROOT / name, tmp_path / name)
     target = "results/montecarlo/finite/n200_nu0.9.npz"
     (tmp_path / "small.yaml").write_text("montecarlo:\n  finite_Gamma_count: 5\n")

@@ -19,7 +19,7 @@ ROOT = Path(__file__).resolve().parents[1]
 TARGET = "results/chain/profiles.npz"
 
 
-PARTS = ("workflow", "config", "figures", "scripts", "kernel", "pyfrustrate", "pyproject.toml", "CMakeLists.txt")
+PARTS = ("workflow", "config", "figures", "benchmarks", "scripts", "kernel", "pyfrustrate", "pyproject.toml", "CMakeLists.txt")
 
 
 def repository_copy(dest):

@@ -33,7 +33,7 @@ def _snakemake(cwd: Path, *args: str) -> str:
 def touched_workflow(tmp_path_factory) -> tuple[Path, list[str]]:
     """A copy of the workflow whose every output exists and is up to date, with its metadata."""
     work = tmp_path_factory.mktemp("workflow")
-    for name in ("workflow", "config", "figures"):
+    for name in ("workflow", "config", "figures", "benchmarks"):
         shutil.copytree(ROOT / name, work / name)
     summary = _snakemake(work, "--summary")
     outputs = [line.split("\t")[0] for line in summary.splitlines()[1:] if line.strip()]
