@@ -67,6 +67,7 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                  if (parent_start && o.relax.method != RelaxMethod::Newton)
                      throw std::invalid_argument("parent_start needs method='newton'");
                  o.parent_start = parent_start;
+                 o.relax.own_ldl = parent_start;  // the warm path factorises with the kernel's own LDL^T
                  return new MC(model, g, box, n, seed, o);
              }),
              py::arg("model"), py::arg("g"), py::arg("box"), py::arg("n"), py::arg("seed"), py::arg("method") = "linear",

@@ -17,6 +17,7 @@ struct ClusterRelaxOptions {
     RelaxMethod method = RelaxMethod::Linear;
     MinimizeOptions minimize;  // L-BFGS: absolute gradient tolerance, evaluation cap, step scale
     bool warm_start = true;    // L-BFGS starts from the linear solution (else the bulk reference)
+    bool own_ldl = false;      // Newton: the kernel's own LDL^T on CHOLMOD's ordering (cholesky.hpp)
 };
 
 struct RelaxCounters {
@@ -47,7 +48,7 @@ double relaxed_cluster_energy(const Model& model, const Topology& topology, cons
                 newton.newton_exact_from_start = true;
                 ++counters.warm_starts;
             }
-            StiffnessCache stiffness(topology);
+            StiffnessCache stiffness(topology, options.own_ldl);
             const MinimizeResult r = relax_newton(model, topology, newton, &stiffness, start);
             counters.evaluations += r.iterations;
             counters.factorizations += r.factorizations + stiffness.reference_factorizations();

@@ -98,8 +98,9 @@ inline void remove_rigid_motion(const Topology& t, Vector& displacement) {
 // on), so one cache serves any particle and refactorises (numerically only) when that changes.
 class StiffnessCache {
    public:
-    explicit StiffnessCache(const Topology& topology)
-        : topology_(topology), pins_(rigid_body_pins(topology)) {}
+    // own_ldl: factorise with the analysis' own LDL^T where CHOLMOD's is simplicial (cholesky.hpp).
+    explicit StiffnessCache(const Topology& topology, bool own_ldl = false)
+        : topology_(topology), pins_(rigid_body_pins(topology)), own_ldl_(own_ldl) {}
 
     const Topology& topology() const { return topology_; }
     const std::vector<int>& pins() const { return pins_; }
@@ -109,7 +110,8 @@ class StiffnessCache {
     const HessianPattern& pattern(const Network<Model>& net) {
         if (!pattern_) {
             pattern_ = std::make_unique<HessianPattern>(net.hessian_pattern(pins_));
-            analysis_ = std::make_shared<CholeskyAnalysis>(pattern_->n_free, pattern_->column_start, pattern_->row);
+            analysis_ =
+                std::make_shared<CholeskyAnalysis>(pattern_->n_free, pattern_->column_start, pattern_->row, own_ldl_);
         }
         return *pattern_;
     }
@@ -157,6 +159,7 @@ class StiffnessCache {
    private:
     const Topology& topology_;
     std::vector<int> pins_;
+    bool own_ldl_ = false;
     std::unique_ptr<HessianPattern> pattern_;
     std::shared_ptr<CholeskyAnalysis> analysis_;
     std::unique_ptr<CholeskyFactor> reference_;

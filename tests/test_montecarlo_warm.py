@@ -3,6 +3,9 @@
 relaxed displacements of the clusters they came from instead of from the linear solution of
 their canonical representative.
 
+The warm path also factorises with the kernel's own LDL^T on CHOLMOD's ordering (cholesky.cpp,
+own_ldl), so these tests check that factorisation too (pivots, damping, solves) against CHOLMOD's.
+
 References: the cold path (the same kernel with ``parent_start=False``, bit-for-bit the Newton
 path before warm starts), an independent L-BFGS minimisation at a tight tolerance, and the exact
 Boltzmann weights of a box small enough to enumerate.
