@@ -24,7 +24,19 @@ For each parameter set:
 Ratios are printed from the same run. Rates use process CPU time (the kernel is single-threaded;
 the machine may be shared), wall time is shown too.
 
-Usage: ``python benchmarks/bench_montecarlo.py [--sweeps 10000] [--quick]``
+``--exact``: only the exact (Newton) cluster energies of the workflow's runs, dense (300 particles
+in 30 x 30, nu = 0.4) and sparse (200 in 60 x 60, nu = 0.9), ell = 5, eps = 0.01, Gamma = 0.5,
+tol 1e-3, cluster_moves 0.02, seed 1 (config/paper.yaml): the warm-started path (``warm_start=True``,
+anneal's default: each move's clusters relaxed from their parents' relaxed displacements) against
+the cold one (``warm_start=False``: from the linear solution of the canonical representative),
+alternately A B A B in the same run, each an annealing of ``--exact-sweeps`` sweeps (the whole
+linear schedule, compressed): CPU time, minimisations, Newton factorisations and evaluations per
+minimisation, time per minimisation, the time extrapolated to 10^4 sweeps (linearly; the true
+10^4-sweep run coarsens further and relaxes larger clusters, so this is a lower bound), the
+ratio, and the final energies of the two paths.
+
+Usage: ``python benchmarks/bench_montecarlo.py [--sweeps 10000] [--quick]``,
+``python benchmarks/bench_montecarlo.py --exact [--exact-sweeps 500] [--repeats 2]``
 """
 from __future__ import annotations
 
@@ -85,6 +97,44 @@ def rate(particle, g, sites, T, mode, budget, min_moves, max_moves):
                 hit_rate=hits / (hits + misses) if hits + misses else float("nan"))
 
 
+EXACT_RUNS = {"dense": (300, 30, 0.4), "sparse": (200, 60, 0.9)}
+
+
+def exact_energies(sweeps, repeats, seed):
+    """Warm (parent) against cold starts of the Newton cluster energies, A B A B."""
+    print(f"{_common.machine_line()}\n{_common.source_line()}")
+    print(f"Exact (Newton) cluster energies, ell = {ELL}, eps = {EPS}, Gamma = {GAMMA}, tol 1e-3, cluster_moves 0.02, "
+          f"seed {seed}: annealings of {sweeps} sweeps, warm (parent) and cold starts alternately, {repeats} each")
+    for kind, (n, box, nu) in EXACT_RUNS.items():
+        particle = Hexagon.from_continuum(ell=ELL, nu=nu, eps=EPS)
+        g = float(continuum.particle_parameters(ELL, nu, GAMMA, eps=EPS).g)
+        runs = {True: [], False: []}
+        for _ in range(repeats):
+            for warm in (True, False):
+                cpu = time.process_time()
+                r = pyfrustrate.anneal(particle, g, box=box, n=n, steps=n * sweeps, seed=seed, method="newton",
+                                       tol=1e-3, progress=False, cluster_moves=0.02, warm_start=warm)
+                runs[warm].append((time.process_time() - cpu, r))
+        print(f"\n=== {kind}: {n} particles in {box} x {box}, nu = {nu}, g = {g:.5g}")
+        print(f"  {'start':6s} {'CPU s min/med/max':>20s} {'10^4 sweeps':>11s} {'minimis.':>9s} {'fact./min':>9s} "
+              f"{'eval./min':>9s} {'ms/min':>7s} {'warm':>6s}  final energy")
+        best = {}
+        for warm, label in ((True, "warm"), (False, "cold")):
+            times = sorted(t for t, _ in runs[warm])
+            r = runs[warm][0][1]
+            c = r.counters
+            m = max(1, c["minimisations"])
+            best[warm] = times[0]
+            print(f"  {label:6s} {times[0]:6.2f} {times[len(times) // 2]:6.2f} {times[-1]:6.2f} "
+                  f"{times[0] * 10_000 / sweeps:9.0f} s {c['minimisations']:9d} {c['factorizations'] / m:9.2f} "
+                  f"{c['evaluations'] / m:9.2f} {1e3 * times[0] / m:7.2f} {c['warm_starts'] / m:6.2f}  {r.energy:.10g}")
+        pairs = [a[0] / b[0] for a, b in zip(runs[False], runs[True])]
+        w, cold = runs[True][0][1], runs[False][0][1]
+        print(f"  cold/warm CPU time: {best[False] / best[True]:.2f} (pairs {', '.join(f'{x:.2f}' for x in pairs)}); "
+              f"final energies differ by {abs(w.energy - cold.energy) / abs(cold.energy):.1e} relative, same final "
+              f"sites: {sorted(map(tuple, w.sites.tolist())) == sorted(map(tuple, cold.sites.tolist()))}")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sweeps", type=int, default=10_000, help="sweeps (n moves each) of the paper-size run")
@@ -92,7 +142,14 @@ def main(argv=None):
     ap.add_argument("--budget", type=float, default=2.0, help="CPU seconds per rate measurement")
     ap.add_argument("--quick", action="store_true", help="short run and measurements (smoke test)")
     ap.add_argument("--cluster-moves", type=float, default=0.02, help="cluster_moves of the comparison run")
+    ap.add_argument("--exact", action="store_true",
+                    help="only the exact-energy (Newton) runs, dense and sparse: warm against cold starts")
+    ap.add_argument("--exact-sweeps", type=int, default=500, help="sweeps of each --exact annealing")
+    ap.add_argument("--repeats", type=int, default=2, help="runs of each path with --exact")
     args = ap.parse_args(argv)
+    if args.exact:
+        exact_energies(100 if args.quick else args.exact_sweeps, 1 if args.quick else args.repeats, args.seed)
+        return
     if args.quick:
         args.sweeps, args.budget = 500, 0.3
     print(f"{_common.machine_line()}\n{_common.source_line()}")

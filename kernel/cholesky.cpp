@@ -3,6 +3,7 @@
 #include <cholmod.h>
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -35,7 +36,9 @@ class SerialOpenMP {
 
 }  // namespace
 
-CholeskyAnalysis::CholeskyAnalysis(int n, const std::vector<int>& column_start, const std::vector<int>& row) : n_(n) {
+CholeskyAnalysis::CholeskyAnalysis(int n, const std::vector<int>& column_start, const std::vector<int>& row,
+                                   bool own_ldl)
+    : n_(n) {
     if (n < 1) throw std::invalid_argument("sparse Cholesky: empty matrix");
     if (static_cast<int>(column_start.size()) != n + 1 || column_start.back() != static_cast<int>(row.size()))
         throw std::invalid_argument("sparse Cholesky: inconsistent compressed-column pattern");
@@ -69,6 +72,43 @@ CholeskyAnalysis::CholeskyAnalysis(int n, const std::vector<int>& column_start, 
                                  std::to_string(c->status) + ")");
     }
     symbolic_ = L;
+    if (!own_ldl || L->is_super) return;
+    // The permuted upper triangle: entry (i, j) of A goes to (min, max) of (pinv i, pinv j).
+    const int* perm = static_cast<const int*>(L->Perm);
+    perm_.assign(perm, perm + n);
+    std::vector<int> pinv(n);
+    for (int k = 0; k < n; ++k) pinv[perm[k]] = k;
+    std::vector<std::array<int, 3>> entries;  // (column, row, value index)
+    entries.reserve(nnz);
+    for (int j = 0; j < n; ++j)
+        for (int p = column_start[j]; p < column_start[j + 1]; ++p) {
+            const int a = pinv[row[p]], b = pinv[j];
+            entries.push_back({std::max(a, b), std::min(a, b), p});
+        }
+    std::sort(entries.begin(), entries.end());
+    ap_.assign(n + 1, 0);
+    ai_.resize(nnz);
+    value_of_.resize(nnz);
+    for (size_t k = 0; k < nnz; ++k) {
+        ++ap_[entries[k][0] + 1];
+        ai_[k] = entries[k][1];
+        value_of_[k] = entries[k][2];
+    }
+    for (int j = 0; j < n; ++j) ap_[j + 1] += ap_[j];
+    // Elimination tree and column counts of L (ldl_symbolic).
+    parent_.assign(n, -1);
+    std::vector<int> flag(n), lnz(n, 0);
+    for (int k = 0; k < n; ++k) {
+        flag[k] = k;
+        for (int p = ap_[k]; p < ap_[k + 1]; ++p)
+            for (int i = ai_[p]; i < k && flag[i] != k; i = parent_[i]) {
+                if (parent_[i] == -1) parent_[i] = k;
+                ++lnz[i];
+                flag[i] = k;
+            }
+    }
+    lp_.assign(n + 1, 0);
+    for (int k = 0; k < n; ++k) lp_[k + 1] = lp_[k] + lnz[k];
 }
 
 CholeskyAnalysis::~CholeskyAnalysis() {
@@ -89,11 +129,19 @@ bool CholeskyAnalysis::supernodal() const { return static_cast<cholmod_factor*>(
 
 CholeskyFactor::CholeskyFactor(std::shared_ptr<CholeskyAnalysis> analysis) : analysis_(std::move(analysis)) {
     auto* c = common_of(analysis_->common_);
+    if (analysis_->own_ldl()) {
+        const int n = analysis_->n_;
+        li_.resize(analysis_->lp_[n]);
+        lx_.resize(analysis_->lp_[n]);
+        d_.resize(n), y_.resize(n), lnz_.resize(n), flag_.resize(n), pattern_.resize(n);
+        return;
+    }
     factor_ = cholmod_copy_factor(static_cast<cholmod_factor*>(analysis_->symbolic_), c);
     if (!factor_) throw std::runtime_error("sparse Cholesky: CHOLMOD could not allocate a factor");
 }
 
 CholeskyFactor::~CholeskyFactor() {
+    if (!factor_) return;
     auto* L = static_cast<cholmod_factor*>(factor_);
     cholmod_free_factor(&L, common_of(analysis_->common_));
 }
@@ -104,6 +152,47 @@ bool CholeskyFactor::factorize(const std::vector<double>& values) {
     auto* c = common_of(analysis_->common_);
     auto* A = static_cast<cholmod_sparse*>(analysis_->matrix_);
     if (values.size() != A->nzmax) throw std::invalid_argument("sparse Cholesky: values do not match the pattern");
+    if (analysis_->own_ldl()) {
+        // Up-looking LDL^T of P A P^T, row k of L from the elimination tree (ldl_numeric).
+        const CholeskyAnalysis& a = *analysis_;
+        const int n = a.n_;
+        ok_ = true;
+        for (int k = 0; k < n; ++k) {
+            y_[k] = 0.0;
+            int top = n;
+            flag_[k] = k;
+            lnz_[k] = 0;
+            for (int p = a.ap_[k]; p < a.ap_[k + 1]; ++p) {
+                int i = a.ai_[p];
+                y_[i] += values[a.value_of_[p]];
+                int len = 0;
+                for (; flag_[i] != k; i = a.parent_[i]) {
+                    pattern_[len++] = i;
+                    flag_[i] = k;
+                }
+                while (len > 0) pattern_[--top] = pattern_[--len];
+            }
+            d_[k] = y_[k];
+            y_[k] = 0.0;
+            for (; top < n; ++top) {
+                const int i = pattern_[top];
+                const double yi = y_[i];
+                y_[i] = 0.0;
+                const int p2 = a.lp_[i] + lnz_[i];
+                for (int p = a.lp_[i]; p < p2; ++p) y_[li_[p]] -= lx_[p] * yi;
+                const double l_ki = yi / d_[i];
+                d_[k] -= l_ki * yi;
+                li_[p2] = k;
+                lx_[p2] = l_ki;
+                ++lnz_[i];
+            }
+            if (!(d_[k] > 0)) {  // positive definite: every pivot positive
+                ok_ = false;
+                break;
+            }
+        }
+        return ok_;
+    }
     std::copy(values.begin(), values.end(), static_cast<double*>(A->x));
     auto* L = static_cast<cholmod_factor*>(factor_);
     int status = 0;
@@ -123,10 +212,14 @@ bool CholeskyFactor::factorize(const std::vector<double>& values) {
 
 double CholeskyFactor::pivot_ratio() const {
     if (!ok_) return 0.0;
-    const auto* L = static_cast<const cholmod_factor*>(factor_);
-    const double* x = static_cast<const double*>(L->x);
     double lo = std::numeric_limits<double>::infinity(), hi = 0;
     auto take = [&](double pivot) { lo = std::min(lo, pivot), hi = std::max(hi, pivot); };
+    if (analysis_->own_ldl()) {
+        for (const double pivot : d_) take(pivot);
+        return hi > 0 ? lo / hi : 0.0;
+    }
+    const auto* L = static_cast<const cholmod_factor*>(factor_);
+    const double* x = static_cast<const double*>(L->x);
     if (L->is_super) {
         const int* super = static_cast<const int*>(L->super);
         const int* pi = static_cast<const int*>(L->pi);
@@ -147,6 +240,19 @@ Eigen::VectorXd CholeskyFactor::solve(const Eigen::VectorXd& b) const {
     auto* c = common_of(analysis_->common_);
     const int n = size();
     if (b.size() != n) throw std::invalid_argument("sparse Cholesky: right-hand side has the wrong size");
+    if (analysis_->own_ldl()) {
+        const CholeskyAnalysis& a = *analysis_;
+        Eigen::VectorXd x(n);
+        for (int k = 0; k < n; ++k) x[k] = b[a.perm_[k]];
+        for (int j = 0; j < n; ++j)
+            for (int p = a.lp_[j]; p < a.lp_[j + 1]; ++p) x[li_[p]] -= lx_[p] * x[j];
+        for (int j = 0; j < n; ++j) x[j] /= d_[j];
+        for (int j = n - 1; j >= 0; --j)
+            for (int p = a.lp_[j]; p < a.lp_[j + 1]; ++p) x[j] -= lx_[p] * x[li_[p]];
+        Eigen::VectorXd out(n);
+        for (int k = 0; k < n; ++k) out[a.perm_[k]] = x[k];
+        return out;
+    }
     cholmod_dense rhs;
     rhs.nrow = n;
     rhs.ncol = 1;

@@ -39,13 +39,20 @@ class CholeskyFactor {
     std::shared_ptr<CholeskyAnalysis> analysis_;
     void* factor_ = nullptr;  // cholmod_factor*
     bool ok_ = false;
+    // The analysis' own LDL^T (CholeskyAnalysis::own_ldl): L by columns, D, and workspace.
+    std::vector<int> li_, lnz_, flag_, pattern_;
+    std::vector<double> lx_, d_, y_;
 };
 
 // The symbolic analysis of one pattern: upper triangle of a symmetric n x n matrix in
 // compressed columns (column_start of size n + 1, row indices sorted within each column).
 class CholeskyAnalysis {
    public:
-    CholeskyAnalysis(int n, const std::vector<int>& column_start, const std::vector<int>& row);
+    // own_ldl: where CHOLMOD's analysis is simplicial, factorise with an up-looking LDL^T of our
+    // own on CHOLMOD's fill-reducing ordering (Davis' LDL algorithm) instead of CHOLMOD's: the
+    // permuted pattern is made once here, where CHOLMOD permutes (transposes) the matrix before
+    // every factorisation. Same ordering, same factor to round-off.
+    CholeskyAnalysis(int n, const std::vector<int>& column_start, const std::vector<int>& row, bool own_ldl = false);
     ~CholeskyAnalysis();
     CholeskyAnalysis(const CholeskyAnalysis&) = delete;
     CholeskyAnalysis& operator=(const CholeskyAnalysis&) = delete;
@@ -53,6 +60,7 @@ class CholeskyAnalysis {
     long factor_nonzeros() const;  // nnz(L) predicted by the analysis
     double factor_flops() const;   // floating-point operations of one numeric factorisation
     bool supernodal() const;
+    bool own_ldl() const { return !perm_.empty(); }
 
    private:
     friend class CholeskyFactor;
@@ -60,6 +68,9 @@ class CholeskyAnalysis {
     void* common_ = nullptr;    // cholmod_common*
     void* matrix_ = nullptr;    // cholmod_sparse* (pattern; values written before each factorisation)
     void* symbolic_ = nullptr;  // cholmod_factor*
+    // own_ldl: the ordering, the upper triangle of P A P^T in compressed columns with the index
+    // of each entry's value in the caller's pattern, the elimination tree and column pointers of L.
+    std::vector<int> perm_, ap_, ai_, value_of_, parent_, lp_;
 };
 
 }  // namespace pyfrustrate

@@ -17,6 +17,7 @@ struct ClusterRelaxOptions {
     RelaxMethod method = RelaxMethod::Linear;
     MinimizeOptions minimize;  // L-BFGS: absolute gradient tolerance, evaluation cap, step scale
     bool warm_start = true;    // L-BFGS starts from the linear solution (else the bulk reference)
+    bool own_ldl = false;      // Newton: the kernel's own LDL^T on CHOLMOD's ordering (cholesky.hpp)
 };
 
 struct RelaxCounters {
@@ -24,21 +25,38 @@ struct RelaxCounters {
     std::int64_t evaluations = 0;    // energy+gradient evaluations (1 per linear solve)
     std::int64_t fallbacks = 0;      // linear solves refused (floppy topology), done by L-BFGS
     std::int64_t unconverged = 0;    // L-BFGS runs stopped short of the tolerance
+    std::int64_t factorizations = 0; // Newton: numeric factorisations (exact Hessians and reference stiffness)
+    std::int64_t warm_starts = 0;    // Newton runs started from a neighbouring relaxed state
 };
 
 // Minimum deformation energy of `topology` (main text Eq. 7, inner minimisation): the linear
 // solve (exact as eps -> 0; a floppy topology falls back to L-BFGS from the bulk reference),
 // or L-BFGS started from the linear solution (warm start) or from the bulk reference.
+//
+// Newton only: `start` (optional) is the displacement to start from instead of the linear
+// solution, a warm start (exact Hessian from the first step); `displacement` (optional) receives
+// the relaxed displacement.
 template <class Model>
 double relaxed_cluster_energy(const Model& model, const Topology& topology, const ClusterRelaxOptions& options,
-                              RelaxCounters& counters) {
+                              RelaxCounters& counters, const Vector* start = nullptr, Vector* displacement = nullptr) {
     ++counters.minimisations;
+    if (displacement) displacement->resize(0);
     if (options.method == RelaxMethod::Newton) {
         try {
-            const MinimizeResult r = relax_newton(model, topology, options.minimize);
+            MinimizeOptions newton = options.minimize;
+            if (start) {
+                newton.newton_exact_from_start = true;
+                ++counters.warm_starts;
+            }
+            StiffnessCache stiffness(topology, options.own_ldl);
+            const MinimizeResult r = relax_newton(model, topology, newton, &stiffness, start);
             counters.evaluations += r.iterations;
+            counters.factorizations += r.factorizations + stiffness.reference_factorizations();
             if (!r.converged) ++counters.unconverged;
-            if (r.energy >= 0) return r.energy;
+            if (r.energy >= 0) {
+                if (displacement) *displacement = r.displacement;
+                return r.energy;
+            }
         } catch (const std::runtime_error&) {
             ++counters.fallbacks;  // floppy topology: no factorisation, L-BFGS below
         }
@@ -57,6 +75,7 @@ double relaxed_cluster_energy(const Model& model, const Topology& topology, cons
     if (x0.size() == 0) x0 = topology.reference_state();
     const MinimizeResult r = relax_lbfgs(model, topology, x0, options.minimize);
     counters.evaluations += r.iterations;
+    if (displacement && r.energy >= 0) *displacement = r.displacement;
     if (!r.converged) ++counters.unconverged;
     // Every term is non-negative near the reference: a negative energy means that L-BFGS left
     // the physical basin (k_area < 0), and the Monte Carlo must not go on with it.

@@ -98,8 +98,9 @@ inline void remove_rigid_motion(const Topology& t, Vector& displacement) {
 // on), so one cache serves any particle and refactorises (numerically only) when that changes.
 class StiffnessCache {
    public:
-    explicit StiffnessCache(const Topology& topology)
-        : topology_(topology), pins_(rigid_body_pins(topology)) {}
+    // own_ldl: factorise with the analysis' own LDL^T where CHOLMOD's is simplicial (cholesky.hpp).
+    explicit StiffnessCache(const Topology& topology, bool own_ldl = false)
+        : topology_(topology), pins_(rigid_body_pins(topology)), own_ldl_(own_ldl) {}
 
     const Topology& topology() const { return topology_; }
     const std::vector<int>& pins() const { return pins_; }
@@ -109,7 +110,8 @@ class StiffnessCache {
     const HessianPattern& pattern(const Network<Model>& net) {
         if (!pattern_) {
             pattern_ = std::make_unique<HessianPattern>(net.hessian_pattern(pins_));
-            analysis_ = std::make_shared<CholeskyAnalysis>(pattern_->n_free, pattern_->column_start, pattern_->row);
+            analysis_ =
+                std::make_shared<CholeskyAnalysis>(pattern_->n_free, pattern_->column_start, pattern_->row, own_ldl_);
         }
         return *pattern_;
     }
@@ -157,6 +159,7 @@ class StiffnessCache {
    private:
     const Topology& topology_;
     std::vector<int> pins_;
+    bool own_ldl_ = false;
     std::unique_ptr<HessianPattern> pattern_;
     std::shared_ptr<CholeskyAnalysis> analysis_;
     std::unique_ptr<CholeskyFactor> reference_;
@@ -253,7 +256,14 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
     const Network<Model> net{model, topology};
     constexpr double armijo = 1e-4;
     const double switch_ratio = options.newton_switch_ratio;
-    const CholeskyFactor& stiffness = cache.reference(model);  // also makes the analysis used below
+    // The reference factor, made on first use: a start close to the minimum (options.
+    // newton_exact_from_start) may need none.
+    const CholeskyFactor* reference = nullptr;
+    auto stiffness = [&]() -> const CholeskyFactor& {
+        if (!reference) reference = &cache.reference(model);
+        return *reference;
+    };
+    if (!options.newton_exact_from_start) stiffness();  // also makes the analysis used below
     constexpr double roundoff = 1e-10;  // relative resolution of the energy assumed near the minimum
     Vector gradient;
     double energy = net.energy(u, &gradient);
@@ -322,7 +332,7 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
                 alpha[i] = history[i].rho * history[i].s.dot(q);
                 q -= alpha[i] * history[i].y;
             }
-            direction = reference_solve(cache, stiffness, q);
+            direction = reference_solve(cache, stiffness(), q);
             for (size_t i = 0; i < history.size(); ++i) {
                 const double beta = history[i].rho * history[i].y.dot(direction);
                 direction += (alpha[i] - beta) * history[i].s;
@@ -331,7 +341,7 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
         }
         if (!(gradient.dot(direction) < 0) || !direction.allFinite()) {
             history.clear();
-            direction = -reference_solve(cache, stiffness, gradient);
+            direction = -reference_solve(cache, stiffness(), gradient);
         }
         // Trust region: no corner moves by more than max_step (lattice units) in one step. Newton
         // steps near the minimum are far shorter; a longer one comes from a model far from
@@ -435,11 +445,12 @@ MinimizeResult relax_lbfgs(const Model& model, const Topology& topology, const V
 
 // The nonlinear minimum by Newton steps from the linear response; where Newton hands over
 // (strongly nonlinear scenes), L-BFGS from its last state, finished by Newton again.
+// start: the displacement to start from instead (a warm start, e.g. a neighbouring relaxed state).
 template <class Model>
 MinimizeResult relax_newton(const Model& model, const Topology& topology, const MinimizeOptions& options,
-                            StiffnessCache* given = nullptr) {
+                            StiffnessCache* given = nullptr, const Vector* start = nullptr) {
     CacheHandle cache(topology, given);
-    Vector u0 = linear_displacement(model, topology, *cache);
+    Vector u0 = start ? *start : linear_displacement(model, topology, *cache);
     MinimizeResult r = newton_from(model, topology, std::move(u0), options, *cache);
     if (r.handed_over && r.iterations < options.max_iterations) {
         MinimizeOptions rest = options;

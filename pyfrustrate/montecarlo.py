@@ -376,7 +376,18 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
         Attempted moves per record block (default ``n``, one sweep).
     cache, warm_start : bool
         Cluster-energy cache and warm starts (speed knobs; ``warm_start`` changes L-BFGS minima
-        within the tolerance, so it is part of a checkpoint's parameters, ``cache`` is not).
+        within the tolerance, so it is part of a checkpoint's parameters, ``cache`` is not). With
+        ``method="newton"``, ``warm_start`` relaxes the clusters a move makes from the relaxed
+        displacements of the clusters they came from (the moved particle rigidly attached; exact
+        Hessian from the first step) where every other particle's is known, instead of from the
+        linear solution of the canonical representative (``warm_start=False``, the former path):
+        the warm path also factorises with the kernel's own LDL^T instead of CHOLMOD's. Measured
+        in the dense box (300 in 30 x 30, nu = 0.4): ~25 % fewer factorisations per relaxation,
+        ~1.2x faster. Energies then agree with the cold start's to the tolerance, not to the last
+        bit: they depend on the path and on the cache at that level, so a run resumed from a
+        checkpoint (empty cache, no stored displacements) follows the uninterrupted one within
+        the tolerance (the same moves, as tests/test_montecarlo_warm.py checks of warm against
+        cold chains) rather than bit for bit.
     delayed_acceptance : bool
         Screen each move first with the surrogate energy ``-(g - e_b/3) * bonds`` (``e_b`` the
         particle's bulk deformation energy per particle), relaxing clusters only for moves that
@@ -453,7 +464,7 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     mc = _kernel.MonteCarlo(model, g, box, n, seed, method=method, tol=float(tol) * particle.force_scale,
                             max_iter=max_iter, cache=bool(cache), warm_start=bool(warm_start),
                             delayed_acceptance=bool(delayed_acceptance), bond_deformation=bond_deformation,
-                            cluster_moves=cluster_moves)
+                            cluster_moves=cluster_moves, parent_start=bool(warm_start) and method == "newton")
     energies, accepted = [], []
     done, elapsed_before, resumed = 0, 0.0, False
     if state is None and checkpoint is not None and os.path.exists(checkpoint):
