@@ -10,17 +10,8 @@ VENV="${PYFRUSTRATE_VENV:-$ROOT/.venv}"
 # BLAS that libsuitesparse-dev pulls in alone makes the supernodal factorisation no faster).
 DEBIAN_PACKAGES=(g++ libeigen3-dev libnlopt-cxx-dev libsuitesparse-dev libopenblas0-serial python3-venv)
 
-missing=()
-for pkg in "${DEBIAN_PACKAGES[@]}"; do
-  dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
-done
-if ((${#missing[@]})); then
-  echo "[setup] installing Debian packages: ${missing[*]}"
-  SUDO=""
-  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
-fi
+source "$ROOT/scripts/debian_packages.sh"
+install_missing_debian_packages "[setup]" -- "${DEBIAN_PACKAGES[@]}"
 
 if [ ! -x "$VENV/bin/python" ]; then
   echo "[setup] creating virtual environment $VENV"

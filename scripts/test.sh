@@ -9,16 +9,9 @@ bash "$ROOT/scripts/setup.sh"
 # (without root the test is skipped, so there is nothing to install).
 TEST_DEBIAN_PACKAGES=(slurm-wlm munge)
 if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null; then
-  missing=()
-  for pkg in "${TEST_DEBIAN_PACKAGES[@]}"; do
-    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
-  done
-  if ((${#missing[@]})); then
-    echo "[test] installing Debian packages: ${missing[*]}"
-    apt-get update -qq
-    # --no-install-recommends: the daemons and clients, not the MySQL-backed accounting daemon.
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-  fi
+  source "$ROOT/scripts/debian_packages.sh"
+  # --no-install-recommends: the daemons and clients, not the MySQL-backed accounting daemon.
+  install_missing_debian_packages "[test]" --no-install-recommends -- "${TEST_DEBIAN_PACKAGES[@]}"
 fi
 cd "$ROOT"
 exec "${PYFRUSTRATE_VENV:-$ROOT/.venv}/bin/python" -m pytest "$@"
