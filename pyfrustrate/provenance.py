@@ -18,6 +18,7 @@ from importlib import metadata
 import numpy as np
 
 from . import _kernel
+from .io import _to_builtin
 
 UNKNOWN = "unknown"
 
@@ -77,10 +78,8 @@ def _builtin(value):
         return {str(k): _builtin(v) for k, v in value.items()}
     if isinstance(value, (list, tuple, set, frozenset, range)):
         return [_builtin(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, np.generic):
-        return value.item()
+    if isinstance(value, (np.ndarray, np.generic)):
+        return _to_builtin(value)
     if value is None or isinstance(value, (str, int, float, bool)):
         return value
     return str(value)
