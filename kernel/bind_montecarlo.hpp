@@ -20,6 +20,7 @@ inline pybind11::dict counters_dict(const MonteCarloCounters& c) {
     d["screened"] = c.screened;
     d["cluster_attempted"] = c.cluster_attempted;
     d["cluster_accepted"] = c.cluster_accepted;
+    d["cluster_rebonded"] = c.cluster_rebonded;
     d["cache_hits"] = c.cache.hits;
     d["cache_misses"] = c.cache.misses;
     d["cache_clears"] = c.cache.clears;
@@ -43,7 +44,7 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                    "translations and the symmetries the particle and the tiling share.")
         .def(py::init([](const Model& model, double g, int box, int n, std::uint64_t seed, const std::string& method,
                          double tol, int max_iter, bool cache, bool warm_start, bool incremental, std::size_t cache_limit,
-                         bool delayed_acceptance, double bond_deformation, double cluster_moves, bool parent_start) {
+                         bool delayed_acceptance, double bond_deformation, double cluster_moves, double cluster_link, bool parent_start) {
                  MonteCarloOptions o;
                  if (method == "linear") o.relax.method = RelaxMethod::Linear;
                  else if (method == "lbfgs") o.relax.method = RelaxMethod::Lbfgs;
@@ -64,6 +65,9 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                  if (!(cluster_moves >= 0 && cluster_moves <= 1))
                      throw std::invalid_argument("cluster_moves must lie in [0, 1], got " + std::to_string(cluster_moves));
                  o.cluster_moves = cluster_moves;
+                 if (!(cluster_link >= 0 && cluster_link <= 1))
+                     throw std::invalid_argument("cluster_link must lie in [0, 1], got " + std::to_string(cluster_link));
+                 o.cluster_link = cluster_link;
                  if (parent_start && o.relax.method != RelaxMethod::Newton)
                      throw std::invalid_argument("parent_start needs method='newton'");
                  o.parent_start = parent_start;
@@ -74,12 +78,14 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
              py::arg("tol") = 1e-7, py::arg("max_iter") = 100000, py::arg("cache") = true, py::arg("warm_start") = true,
              py::arg("incremental") = true, py::arg("cache_limit") = std::size_t(1) << 24,
              py::arg("delayed_acceptance") = true, py::arg("bond_deformation") = 0.0, py::arg("cluster_moves") = 0.0,
-             py::arg("parent_start") = false,
+             py::arg("cluster_link") = 1.0, py::arg("parent_start") = false,
              "Random initial placement drawn from the seeded std::mt19937_64. tol is the absolute L-BFGS gradient "
              "tolerance (NLopt works in units of the model's step_scale); cache_limit the stored key entries before the cache is cleared; delayed_acceptance screens "
              "moves with the surrogate energy -(g - bond_deformation) * bonds before relaxing anything (same "
-             "Boltzmann distribution); cluster_moves is the probability of a cluster translation (shape and energy "
-             "unchanged, rejected on any overlap or new contact); parent_start (method='newton') relaxes the clusters a move makes "
+             "Boltzmann distribution); cluster_moves is the probability of a cluster translation: a set grown from "
+             "a random particle by following each bond with probability cluster_link, shifted by a random lattice vector "
+             "and accepted with the Metropolis-Hastings ratio (cluster_link = 1: whole clusters, rejected on any overlap or "
+             "new contact, so shape and energy unchanged; below 1 aggregates can merge and split); parent_start (method='newton') relaxes the clusters a move makes "
              "from the relaxed displacements of the clusters they came from, exact Hessian from the first step (energies "
              "equal the cold start's to the tolerance, not to the last bit); incremental=False re-minimises every cluster of the box on every move.")
         .def(
@@ -170,13 +176,15 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                 MonteCarloCounters& c = mc.counters;
                 c.attempted = get("attempted"), c.accepted = get("accepted"), c.screened = get("screened");
                 c.cluster_attempted = get("cluster_attempted"), c.cluster_accepted = get("cluster_accepted");
+                c.cluster_rebonded = get("cluster_rebonded");
                 c.cache.hits = get("cache_hits"), c.cache.misses = get("cache_misses"), c.cache.clears = get("cache_clears");
                 c.relax.minimisations = get("minimisations"), c.relax.evaluations = get("evaluations");
                 c.relax.fallbacks = get("fallbacks"), c.relax.unconverged = get("unconverged");
                 c.relax.factorizations = get("factorizations"), c.relax.warm_starts = get("warm_starts");
             },
             "attempted, accepted, screened (rejected by the surrogate), cluster_attempted, cluster_accepted (cluster "
-            "translations, counted in attempted/accepted too), cache_hits, cache_misses, cache_clears, minimisations, evaluations (energy+gradient "
+            "translations, counted in attempted/accepted too), cluster_rebonded (accepted translations that made or "
+            "broke bonds), cache_hits, cache_misses, cache_clears, minimisations, evaluations (energy+gradient "
             "evaluations, 1 per linear solve), fallbacks (linear solve refused, done by L-BFGS), unconverged.")
         .def_property_readonly("cache_size", &MC::cache_size)
         .def("clear_cache", &MC::clear_cache);

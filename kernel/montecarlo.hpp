@@ -2,7 +2,8 @@
 // phase diagram", and the snapshots of Fig. 3b).
 //
 // N particles occupy distinct sites of a periodic L x L box of cells of the particle's tiling
-// (box.hpp). A move takes a random particle to a random empty site. The energy of a
+// (box.hpp). A move takes a random particle to a random empty site, or shifts a set of bonded
+// particles by a random lattice vector (cluster moves, MonteCarloOptions). The energy of a
 // configuration is a sum over its connected clusters (connectivity through the tiling's edge
 // neighbours, periodic):
 //
@@ -57,12 +58,22 @@ struct MonteCarloOptions {
     bool delayed_acceptance = true;
     double bond_deformation = 0.0;  // surrogate deformation energy per bond (bulk: e_b / bonds per particle)
     // Probability that an attempted move is a cluster translation instead of a particle move: a
-    // random particle's (finite) cluster is shifted by a uniformly random lattice vector of the
-    // box, and the shift is accepted iff the cluster lands on empty sites without touching any
-    // other particle. Shape, bonds and energy are unchanged and the proposal is symmetric, so
-    // the Boltzmann distribution is unchanged; aggregates diffuse across the box and meet,
-    // where single-particle moves alone leave them to ripen slowly. 0: particle moves only.
+    // set S of particles grown from a random one is shifted by a uniformly random lattice vector
+    // of the box (a symmetric proposal), rejected if it would overlap another particle.
+    // S is grown by bond percolation: each bond from S to an occupied site outside it is
+    // followed with probability p = cluster_link. The probability of proposing S is
+    // (1/N) F(S) (1 - p)^b, where F depends only on the bonds inside S (which the shift keeps)
+    // and b counts the bonds from S to the rest; the reverse shift has the same F and b' (the
+    // bonds after the move), so Metropolis-Hastings accepts with min(1, exp(-dE/T) (1-p)^(b'-b))
+    // (a cluster move with a fixed link probability; Whitelam & Geissler's virtual-move Monte
+    // Carlo, J. Chem. Phys. 127, 154101 (2007), makes links depend on pair energies, which an
+    // elastic energy does not split into). With p < 1
+    // aggregates meet and merge in one move, and the reverse move splits them. p = 1: S is the
+    // whole (finite) cluster and (1 - p)^(b' - b) forbids any new contact, so the move changes
+    // neither shape, bonds nor energy and needs no relaxation. cluster_moves = 0: particle moves
+    // only.
     double cluster_moves = 0.0;
+    double cluster_link = 1.0;
     bool cache = true;        // cache relaxed energies by canonical shape
     bool incremental = true;  // false: re-minimise every cluster of the box on every move
                               // (the naive baseline of the benchmark; no cache either)
@@ -86,6 +97,7 @@ struct MonteCarloCounters {
     std::int64_t attempted = 0, accepted = 0;
     std::int64_t screened = 0;  // rejected by the surrogate, without relaxing anything
     std::int64_t cluster_attempted = 0, cluster_accepted = 0;  // cluster translations (within attempted/accepted)
+    std::int64_t cluster_rebonded = 0;  // accepted translations that made or broke bonds (aggregates met or split)
     CacheCounters cache;
     RelaxCounters relax;
 };
@@ -141,7 +153,15 @@ private:
     double uniform01();                            // in [0, 1), 53 bits
     int random_empty_site();
     bool particle_step(double T);
-    bool cluster_step();
+    bool cluster_step(double T);
+    // A move under test, made on the occupancy: particles arrived on `arrived` and left
+    // `vacated`. The deformation before (old_ids_, the clusters it changes) and after (fresh_:
+    // the clusters through the arrived sites and the pieces next to the vacated ones, relaxed
+    // into fresh_energy_); without incremental, the whole box. Once accepted,
+    // adopt_fresh_clusters labels fresh_ and stores its displacements in place of old_ids_'.
+    void relax_changed_clusters(const int* arrived, std::size_t n_arrived, const int* vacated, std::size_t n_vacated,
+                                double& old_deformation, double& new_deformation);
+    void adopt_fresh_clusters();
     double shape_energy(const ShapeKey& key, const Cluster& cluster);  // from the key's representative
     double raw_energy(const Cluster& cluster);                        // from the sites as found
     // Relaxed energy of a fresh cluster of a move through the cache, warm-started from the
@@ -168,7 +188,7 @@ private:
     std::mt19937_64 rng_;
     ClusterEnergyCache cache_;
     std::vector<int> symmetries_;  // lattice operations under which shapes are equivalent
-    ClusterWorkspace ws_, ws_canonical_;
+    ClusterWorkspace ws_, ws_canonical_, grown_;  // grown_: the set a cluster move shifts
     std::vector<Cluster> fresh_;         // clusters after the move under test
     std::vector<double> fresh_energy_;
     // parent_start: the relaxed displacement of every corner slot of the particle on each site
@@ -200,6 +220,7 @@ MonteCarlo<Model>::MonteCarlo(const Model& model, double g, int L, int n, std::u
     label_.assign(box_.n_sites(), -1);
     ws_.resize(box_.n_sites());
     ws_canonical_.resize(box_.n_sites());
+    grown_.resize(box_.n_sites());
     if (options_.parent_start) {
         site_displacement_.assign(static_cast<std::size_t>(box_.n_sites()) * 2 * Model::kCornerCount, 0.0);
         site_known_.assign(box_.n_sites(), 0);
@@ -447,65 +468,191 @@ template <class Model>
 inline bool MonteCarlo<Model>::step(double T) {
     ++counters.attempted;
     // No deviate is drawn without cluster moves, so particle-move chains keep their sequence.
-    if (options_.cluster_moves > 0 && uniform01() < options_.cluster_moves) return cluster_step();
+    if (options_.cluster_moves > 0 && uniform01() < options_.cluster_moves) return cluster_step(T);
     return particle_step(T);
 }
 
 template <class Model>
-inline bool MonteCarlo<Model>::cluster_step() {
+inline void MonteCarlo<Model>::relax_changed_clusters(const int* arrived, std::size_t n_arrived, const int* vacated,
+                                                      std::size_t n_vacated, double& old_deformation, double& new_deformation) {
+    old_deformation = new_deformation = 0.0;
+    if (!options_.incremental) {
+        old_deformation = deformation_;
+        new_deformation = scratch_deformation(true, false, false);
+        return;
+    }
+    for (const int id : old_ids_) old_deformation += cluster_deformation_[id];
+    fresh_.clear();
+    ws_.new_round();
+    for (std::size_t k = 0; k < n_arrived; ++k)
+        if (!ws_.seen(arrived[k])) fresh_.push_back(find_cluster(box_, occupant_, arrived[k], ws_));
+    for (std::size_t k = 0; k < n_vacated; ++k)
+        for (int d = 0; d < box_.neighbours(); ++d) {
+            const int u = box_.next(vacated[k], d);
+            if (occupant_[u] >= 0 && !ws_.seen(u)) fresh_.push_back(find_cluster(box_, occupant_, u, ws_));
+        }
+    fresh_energy_.clear();
+    fresh_displacement_.resize(std::max(fresh_displacement_.size(), fresh_.size()));
+    for (std::size_t k = 0; k < fresh_.size(); ++k) {
+        fresh_energy_.push_back(fresh_cluster_energy(fresh_[k], fresh_displacement_[k]));
+        new_deformation += fresh_energy_.back();
+    }
+}
+
+template <class Model>
+inline void MonteCarlo<Model>::adopt_fresh_clusters() {
+    for (const int id : old_ids_) free_ids_.push_back(id);
+    for (std::size_t k = 0; k < fresh_.size(); ++k) {
+        const int id = new_cluster_id(fresh_energy_[k]);
+        for (const int m : fresh_[k].members) label_[m] = id;
+    }
+    if (!options_.parent_start) return;
+    constexpr int D = 2 * Model::kCornerCount;
+    for (std::size_t k = 0; k < fresh_.size(); ++k) {
+        const std::vector<double>& d = fresh_displacement_[k];
+        const bool stored = d.size() == fresh_[k].members.size() * D;
+        for (std::size_t q = 0; q < fresh_[k].members.size(); ++q) {
+            const int m = fresh_[k].members[q];
+            site_known_[m] = stored;
+            if (stored) std::copy(d.begin() + q * D, d.begin() + (q + 1) * D, site_displacement_.begin() + static_cast<std::ptrdiff_t>(m) * D);
+        }
+    }
+}
+
+template <class Model>
+inline bool MonteCarlo<Model>::cluster_step(double T) {
     ++counters.cluster_attempted;
     const int a = particles_[uniform_index(particles_.size())];
     const int L = box_.L;
     const int di = static_cast<int>(uniform_index(L)), dj = static_cast<int>(uniform_index(L));  // a cell shift
     if (di == 0 && dj == 0) return false;
-    ws_.new_round();
-    const Cluster cl = find_cluster(box_, occupant_, a, ws_);
-    if (cl.rank() > 0) return false;  // a wrapped cluster is periodic: a shift changes nothing
-    const int id = label_[a];
-    std::vector<int> targets;
-    targets.reserve(cl.members.size());
-    for (const int m : cl.members) {
-        const Site c = box_.coords(m);
-        const int t = box_.index({c[0] + di, c[1] + dj, c[2]});
-        // The target and its neighbours must be empty or in the cluster itself (those sites are
-        // vacated or re-filled by it): no overlap, no new contact, so no energy change. The
-        // cluster's sites are the ones marked by the search just done.
-        if (occupant_[t] >= 0 && !ws_.seen(t)) return false;
+    // The set S, by bond percolation from a: every bond from S to an occupied site outside it
+    // is tested once (p = 1 draws no deviate: S is a's whole cluster).
+    const double p = options_.cluster_link;
+    grown_.new_round();
+    std::vector<int> set{a};
+    grown_.mark[a] = grown_.stamp;
+    for (std::size_t k = 0; k < set.size(); ++k)
         for (int d = 0; d < box_.neighbours(); ++d) {
-            const int u = box_.next(t, d);
-            if (occupant_[u] >= 0 && !ws_.seen(u)) return false;
+            const int u = box_.next(set[k], d);
+            if (occupant_[u] < 0 || grown_.seen(u)) continue;
+            if (p >= 1 || uniform01() < p) {
+                grown_.mark[u] = grown_.stamp;
+                set.push_back(u);
+            }
         }
-        targets.push_back(t);
+    // Bonds from S to the rest before (b) and after (b') the shift; targets must be empty or in S.
+    // The clusters the move changes: the one S comes from and those its targets touch.
+    std::vector<int> targets(set.size());
+    int outer_before = 0, outer_after = 0;
+    old_ids_.assign(1, label_[a]);
+    for (std::size_t k = 0; k < set.size(); ++k) {
+        const Site c = box_.coords(set[k]);
+        const int t = box_.index({c[0] + di, c[1] + dj, c[2]});
+        if (occupant_[t] >= 0 && !grown_.seen(t)) return false;
+        targets[k] = t;
+        for (int d = 0; d < box_.neighbours(); ++d) {
+            const int u = box_.next(set[k], d), v = box_.next(t, d);
+            outer_before += occupant_[u] >= 0 && !grown_.seen(u);
+            if (occupant_[v] < 0 || grown_.seen(v)) continue;  // the rest does not move
+            ++outer_after;
+            if (std::find(old_ids_.begin(), old_ids_.end(), label_[v]) == old_ids_.end()) old_ids_.push_back(label_[v]);
+        }
     }
-    std::vector<int> moved(cl.members.size());
-    std::vector<double> carried;  // parent_start: the displacements travel with the particles
-    std::vector<char> carried_known;
+    const int new_bonds = outer_after - outer_before;
+    if (p >= 1 && new_bonds > 0) return false;  // (1 - p)^(b' - b) = 0
+    const double log_hastings = new_bonds == 0 ? 0.0 : new_bonds * std::log1p(-p);
+
+    // The move, undone unless accepted; parent_start: the displacements travel with the particles.
+    constexpr int D = 2 * Model::kCornerCount;
+    std::vector<int> moved(set.size());
+    std::vector<double> saved_displacement, carried;
+    std::vector<char> saved_known, carried_known;
     if (options_.parent_start) {
-        constexpr int D = 2 * Model::kCornerCount;
-        for (const int m : cl.members) {
-            carried.insert(carried.end(), site_displacement_.begin() + static_cast<std::ptrdiff_t>(m) * D,
-                           site_displacement_.begin() + static_cast<std::ptrdiff_t>(m + 1) * D);
-            carried_known.push_back(site_known_[m]);
-        }
-        forget_displacements(cl.members);
+        for (const std::vector<int>* sites : {&set, &targets})
+            for (const int s : *sites) {
+                saved_displacement.insert(saved_displacement.end(), site_displacement_.begin() + static_cast<std::ptrdiff_t>(s) * D,
+                                          site_displacement_.begin() + static_cast<std::ptrdiff_t>(s + 1) * D);
+                saved_known.push_back(site_known_[s]);
+            }
+        carried.assign(saved_displacement.begin(), saved_displacement.begin() + static_cast<std::ptrdiff_t>(set.size()) * D);
+        carried_known.assign(saved_known.begin(), saved_known.begin() + static_cast<std::ptrdiff_t>(set.size()));
+        forget_displacements(set);
         for (std::size_t k = 0; k < targets.size(); ++k) {
             std::copy(carried.begin() + static_cast<std::ptrdiff_t>(k) * D, carried.begin() + static_cast<std::ptrdiff_t>(k + 1) * D,
                       site_displacement_.begin() + static_cast<std::ptrdiff_t>(targets[k]) * D);
             site_known_[targets[k]] = carried_known[k];
         }
     }
-    for (std::size_t k = 0; k < cl.members.size(); ++k) {
-        moved[k] = occupant_[cl.members[k]];
-        occupant_[cl.members[k]] = -1;
-        label_[cl.members[k]] = -1;
+    for (std::size_t k = 0; k < set.size(); ++k) {
+        moved[k] = occupant_[set[k]];
+        occupant_[set[k]] = -1;
     }
     for (std::size_t k = 0; k < targets.size(); ++k) {
         occupant_[targets[k]] = moved[k];
-        label_[targets[k]] = id;
         particles_[moved[k]] = targets[k];
+    }
+    const auto undo = [&] {
+        for (const int t : targets) occupant_[t] = -1;
+        for (std::size_t k = 0; k < set.size(); ++k) {
+            occupant_[set[k]] = moved[k];
+            particles_[moved[k]] = set[k];
+        }
+        if (!options_.parent_start) return;
+        std::size_t q = 0;
+        for (const std::vector<int>* sites : {&set, &targets})
+            for (const int s : *sites) {
+                std::copy(saved_displacement.begin() + static_cast<std::ptrdiff_t>(q) * D,
+                          saved_displacement.begin() + static_cast<std::ptrdiff_t>(q + 1) * D,
+                          site_displacement_.begin() + static_cast<std::ptrdiff_t>(s) * D);
+                site_known_[s] = saved_known[q++];
+            }
+    };
+
+    if (outer_before == 0 && outer_after == 0) {
+        // S is a whole cluster and touches nothing where it lands: same shape, same bonds, same
+        // energy; accepted without relaxing anything.
+        const int id = label_[set[0]];
+        for (const int s : set) label_[s] = -1;
+        for (const int t : targets) label_[t] = id;
+        ++counters.accepted;
+        ++counters.cluster_accepted;
+        return true;
+    }
+
+    // Delayed acceptance as for particle moves, the first stage carrying the Hastings factor.
+    const bool delayed = options_.delayed_acceptance && T > 0;
+    const double surrogate = delayed ? -(g_ - options_.bond_deformation) * new_bonds : 0.0;
+    if (options_.delayed_acceptance) {
+        const double u = uniform01();
+        if (delayed && !metropolis(surrogate - T * log_hastings, T, u)) {
+            undo();
+            ++counters.screened;
+            return false;
+        }
+    }
+    double old_deformation = 0.0, new_deformation = 0.0;
+    try {
+        relax_changed_clusters(targets.data(), targets.size(), set.data(), set.size(), old_deformation, new_deformation);
+    } catch (...) {
+        undo();
+        throw;
+    }
+    const double delta = -g_ * new_bonds + (new_deformation - old_deformation);
+    const double u = uniform01();
+    const bool accept = delayed ? metropolis(delta - surrogate, T, u) : metropolis(delta - T * log_hastings, T, u);
+    if (!accept) {
+        undo();
+        return false;
     }
     ++counters.accepted;
     ++counters.cluster_accepted;
+    ++counters.cluster_rebonded;
+    bonds_ += new_bonds;
+    deformation_ += new_deformation - old_deformation;
+    if (!options_.incremental) return true;
+    for (const int s : set) label_[s] = -1;
+    adopt_fresh_clusters();
     return true;
 }
 
@@ -552,25 +699,8 @@ inline bool MonteCarlo<Model>::particle_step(double T) {
                 if (occupant_[t] >= 0 && std::find(old_ids_.begin(), old_ids_.end(), label_[t]) == old_ids_.end())
                     old_ids_.push_back(label_[t]);
             }
-            for (const int id : old_ids_) old_deformation += cluster_deformation_[id];
-            // Clusters after it: the one at b (merging its neighbours), and the pieces left at a.
-            fresh_.clear();
-            fresh_energy_.clear();
-            ws_.new_round();
-            fresh_.push_back(find_cluster(box_, occupant_, b, ws_));
-            for (int d = 0; d < box_.neighbours(); ++d) {
-                const int t = box_.next(a, d);
-                if (occupant_[t] >= 0 && !ws_.seen(t)) fresh_.push_back(find_cluster(box_, occupant_, t, ws_));
-            }
-            fresh_displacement_.resize(std::max(fresh_displacement_.size(), fresh_.size()));
-            for (std::size_t k = 0; k < fresh_.size(); ++k) {
-                fresh_energy_.push_back(fresh_cluster_energy(fresh_[k], fresh_displacement_[k]));
-                new_deformation += fresh_energy_.back();
-            }
-        } else {
-            old_deformation = deformation_;
-            new_deformation = scratch_deformation(true, false, false);
         }
+        relax_changed_clusters(&b, 1, &a, 1, old_deformation, new_deformation);
     } catch (...) {
         undo();
         throw;
@@ -588,24 +718,8 @@ inline bool MonteCarlo<Model>::particle_step(double T) {
         return true;
     }
     deformation_ += new_deformation - old_deformation;
-    for (const int id : old_ids_) free_ids_.push_back(id);
-    for (std::size_t k = 0; k < fresh_.size(); ++k) {
-        const int id = new_cluster_id(fresh_energy_[k]);
-        for (const int m : fresh_[k].members) label_[m] = id;
-    }
-    if (options_.parent_start) {
-        constexpr int D = 2 * Model::kCornerCount;
-        site_known_[a] = 0;
-        for (std::size_t k = 0; k < fresh_.size(); ++k) {
-            const std::vector<double>& d = fresh_displacement_[k];
-            const bool stored = d.size() == fresh_[k].members.size() * D;
-            for (std::size_t q = 0; q < fresh_[k].members.size(); ++q) {
-                const int m = fresh_[k].members[q];
-                site_known_[m] = stored;
-                if (stored) std::copy(d.begin() + q * D, d.begin() + (q + 1) * D, site_displacement_.begin() + static_cast<std::ptrdiff_t>(m) * D);
-            }
-        }
-    }
+    if (options_.parent_start) site_known_[a] = 0;
+    adopt_fresh_clusters();
     return true;
 }
 

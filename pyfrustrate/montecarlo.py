@@ -209,6 +209,17 @@ def _non_negative(name, value):
     return t
 
 
+def _probability(name, value):
+    """``value`` as a float in [0, 1], else ValueError naming it."""
+    try:
+        p = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number in [0, 1], got {value!r}") from None
+    if not 0.0 <= p <= 1.0:  # NaN fails too
+        raise ValueError(f"{name} must lie in [0, 1], got {value!r}")
+    return p
+
+
 def _plan(steps, schedule, T0, T_end, record_every):
     """Record blocks: temperatures (B,), attempted moves (B,), stage index (B,), stage count."""
     if isinstance(schedule, str) or callable(schedule):
@@ -308,6 +319,7 @@ def _read_checkpoint(path, signature):
         return data
     saved = dict(data["signature"])
     saved.setdefault("cluster_moves", 0.0)  # checkpoints written before cluster moves existed
+    saved.setdefault("cluster_link", 1.0)  # ... and before linked cluster moves
     _check_signature(path, saved, signature)
     return data
 
@@ -326,8 +338,8 @@ def _check_signature(path, saved, signature):
 
 def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None, method="lbfgs", tol=1e-3,
            checkpoint=None, progress=True, *, T0=None, T_end=None, record_every=None, checkpoint_interval=60.0,
-           cache=True, warm_start=True, delayed_acceptance=True, cluster_moves=0.0, max_iter=100_000,
-           callback=None, state=None) -> AnnealResult:
+           cache=True, warm_start=True, delayed_acceptance=True, cluster_moves=0.0, cluster_link=1.0,
+           max_iter=100_000, callback=None, state=None) -> AnnealResult:
     """Simulated annealing of the topology of ``n`` particles in a periodic ``box x box`` lattice.
 
     Parameters
@@ -402,6 +414,14 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
         symmetric, so the sampled Boltzmann distribution is the same; aggregates then diffuse and
         meet, where particle moves alone leave them to coarsen by slow evaporation. Default 0:
         the paper's single-particle moves.
+    cluster_link : float
+        In [0, 1]: the set a cluster move shifts is grown from the random particle by following
+        each of its bonds with this probability, and the shift is accepted with the
+        Metropolis-Hastings ratio ``min(1, exp(-dE/T) (1 - cluster_link)**(b' - b))`` (b, b' the
+        bonds between the set and the rest before and after), so the Boltzmann distribution is
+        kept exactly. Below 1, aggregates merge in one move when a shifted one lands in contact
+        with another (and the reverse move splits them); those moves relax the clusters they
+        make. 1 (default): whole clusters only, rejected on contact, as described above.
     max_iter : int
         Cap on energy evaluations per L-BFGS relaxation.
     callback : callable or None
@@ -441,12 +461,8 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     if steps is None and (isinstance(schedule, str) or callable(schedule)):
         steps = DEFAULT_SWEEPS * n
     max_iter = _integer("max_iter", max_iter, 1)
-    try:
-        cluster_moves = float(cluster_moves)
-    except (TypeError, ValueError):
-        raise ValueError(f"cluster_moves must be a number in [0, 1], got {cluster_moves!r}") from None
-    if not 0.0 <= cluster_moves <= 1.0:
-        raise ValueError(f"cluster_moves must lie in [0, 1], got {cluster_moves!r}")
+    cluster_moves = _probability("cluster_moves", cluster_moves)
+    cluster_link = _probability("cluster_link", cluster_link)
     temps, block_steps, stage_of_block, n_stages = _plan(steps, schedule, T0, T_end, record_every)
     total_steps = int(block_steps.sum())
     cum_steps = np.cumsum(block_steps)
@@ -456,7 +472,7 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     bond_deformation = float(particle.bulk_energy_per_particle) / tiling["bulk_bonds_per_particle"]
     signature = dict(particle=particle_params, g=g, box=box, n=n, seed=seed, method=method, tol=float(tol),
                      max_iter=max_iter, warm_start=bool(warm_start), delayed_acceptance=bool(delayed_acceptance),
-                     cluster_moves=cluster_moves, plan=plan_digest)
+                     cluster_moves=cluster_moves, cluster_link=cluster_link, plan=plan_digest)
     params = dict(signature, particle_type=type(particle).__name__, schedule=_schedule_description(schedule),
                   T0=T0, T_end=T_end, steps=total_steps, record_every=record_every, cache=bool(cache),
                   bond_deformation=bond_deformation)
@@ -464,7 +480,8 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     mc = _kernel.MonteCarlo(model, g, box, n, seed, method=method, tol=float(tol) * particle.force_scale,
                             max_iter=max_iter, cache=bool(cache), warm_start=bool(warm_start),
                             delayed_acceptance=bool(delayed_acceptance), bond_deformation=bond_deformation,
-                            cluster_moves=cluster_moves, parent_start=bool(warm_start) and method == "newton")
+                            cluster_moves=cluster_moves, cluster_link=cluster_link,
+                            parent_start=bool(warm_start) and method == "newton")
     energies, accepted = [], []
     done, elapsed_before, resumed = 0, 0.0, False
     if state is None and checkpoint is not None and os.path.exists(checkpoint):

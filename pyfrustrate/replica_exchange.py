@@ -38,7 +38,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _kernel
-from .montecarlo import BoxState, _check_signature, _integer, _non_negative, _particle_signature, _write_atomically
+from .montecarlo import (BoxState, _check_signature, _integer, _non_negative, _particle_signature, _probability,
+                         _write_atomically)
 from .relaxation import METHODS
 from .topology import tiling_facts
 
@@ -117,7 +118,7 @@ def _streams(seed: int, count: int):
 
 
 def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exchange_every=None, seed=None,
-                     method="lbfgs", tol=1e-3, cluster_moves=0.0, delayed_acceptance=True, quench_sweeps=50,
+                     method="lbfgs", tol=1e-3, cluster_moves=0.0, cluster_link=1.0, delayed_acceptance=True, quench_sweeps=50,
                      threads=None, state=None, checkpoint=None, checkpoint_interval=60.0, progress=True,
                      record_sites=False, max_iter=100_000) -> ReplicaExchangeResult:
     """Replica exchange of ``n`` particles in a periodic ``box x box`` lattice (module docstring).
@@ -136,7 +137,7 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
         one sweep), so a run costs ``K * rounds * exchange_every`` moves.
     seed : int or None
         Seeds every stream of the run (module docstring); None draws one, which the result records.
-    method, tol, cluster_moves, delayed_acceptance, max_iter
+    method, tol, cluster_moves, cluster_link, delayed_acceptance, max_iter
         The chain of each replica, as in ``anneal``.
     quench_sweeps : int
         Sweeps at T = 0 (a descent: every move that lowers the energy is taken) of the coldest
@@ -177,8 +178,6 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
         raise ValueError(f"tol must be positive, got {tol!r}")
-    if not (isinstance(cluster_moves, (int, float)) and 0.0 <= cluster_moves <= 1.0):
-        raise ValueError(f"cluster_moves must lie in [0, 1], got {cluster_moves!r}")
     threads = min(K, os.cpu_count() or 1) if threads is None else _integer("threads", threads, 1)
     if seed is None:
         seed = secrets.randbits(63)
@@ -187,7 +186,8 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
     bond_deformation = float(particle.bulk_energy_per_particle) / tiling["bulk_bonds_per_particle"]
     options = dict(method=method, tol=float(tol) * particle.force_scale, max_iter=_integer("max_iter", max_iter, 1),
                    delayed_acceptance=bool(delayed_acceptance), bond_deformation=bond_deformation,
-                   cluster_moves=float(cluster_moves))
+                   cluster_moves=_probability("cluster_moves", cluster_moves),
+                   cluster_link=_probability("cluster_link", cluster_link))
     signature = dict(particle=_particle_signature(particle), g=g, box=box, n=n, seed=seed,
                      temperatures=hashlib.sha256(T.tobytes()).hexdigest(), exchange_every=exchange_every,
                      **{k: v for k, v in options.items() if k != "tol"}, tol=float(tol))
@@ -314,5 +314,7 @@ def _read_checkpoint(path, signature) -> ReplicaState:
         data = pickle.load(f)
     if not isinstance(data, dict) or data.get("version") != _CHECKPOINT_VERSION or "state" not in data:
         raise ValueError(f"checkpoint: {path} is not a replica-exchange checkpoint (version {_CHECKPOINT_VERSION})")
-    _check_signature(path, data["signature"], signature)
+    saved = dict(data["signature"])
+    saved.setdefault("cluster_link", 1.0)  # checkpoints written before linked cluster moves
+    _check_signature(path, saved, signature)
     return data["state"]

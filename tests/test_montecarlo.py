@@ -147,11 +147,13 @@ def test_incremental_energy_matches_scratch(particle, g, method, box, n, seed, d
 
 
 @pytest.mark.parametrize("method", ["linear", "lbfgs"])
-def test_cluster_moves_keep_the_incremental_bookkeeping(particle, g, method):
-    """Translations move the cluster labels with the particles: the running energy and bonds
-    still equal a recomputation from scratch while particle moves change clusters in between."""
+@pytest.mark.parametrize("link", [1.0, 0.5])
+def test_cluster_moves_keep_the_incremental_bookkeeping(particle, g, method, link):
+    """Translations move the cluster labels with the particles (and, linked, merge and split
+    clusters): the running energy and bonds still equal a recomputation from scratch while
+    particle moves change clusters in between."""
     box, n = 14, 30
-    mc = kernel_mc(particle, g, box, n, 5, method, cluster_moves=0.4)
+    mc = kernel_mc(particle, g, box, n, 5, method, cluster_moves=0.4, cluster_link=link)
     scale = n * particle.bulk_energy_per_particle
     for T_ in np.linspace(g, 0.2 * g, 8):
         mc.run(np.array([T_]), np.array([300]))
@@ -183,12 +185,13 @@ def test_bonds_counted_on_the_torus(particle, g):
         assert mc.bonds == bonds
 
 
-def test_cache_and_incremental_do_not_change_the_chain(particle, g):
+@pytest.mark.parametrize("moves", [{}, dict(cluster_moves=0.3, cluster_link=0.5)])
+def test_cache_and_incremental_do_not_change_the_chain(particle, g, moves):
     """Energies are computed from canonical representatives: caching (even a tiny cache cleared
     all the time) changes nothing; re-minimising every cluster on every move gives the same
-    chain (energies summed in another order)."""
+    chain (energies summed in another order), with linked cluster moves too."""
     def run(**kw):
-        mc = kernel_mc(particle, g, 6, 14, 11, delayed_acceptance=False, **kw)
+        mc = kernel_mc(particle, g, 6, 14, 11, delayed_acceptance=False, **moves, **kw)
         out = mc.run(np.linspace(g, 0.1 * g, 20), np.full(20, 40))
         return mc, out
 
@@ -303,6 +306,41 @@ def test_cluster_moves_keep_the_boltzmann_weights(box, n, delayed):
     assert z < 5
     assert tv_levels < 0.02
     assert tv_states < 0.06
+
+
+@pytest.mark.parametrize("box,n,delayed,link", [(4, 3, True, 0.5), (4, 3, False, 0.5), (3, 4, True, 0.3)])
+def test_linked_cluster_moves_keep_the_boltzmann_weights(box, n, delayed, link):
+    """Half the moves shift a set grown by following each bond with probability ``link``: sets
+    land in contact (aggregates merge) and leave part of a cluster behind (they split), accepted
+    with the Hastings factor (1 - link)^(new bonds - old bonds). The chain must sample exp(-E/T)
+    exactly. Without the factor it does not: this box then gives z ~ 28 and a level distance of
+    0.07 (checked when the move was written)."""
+    particle = Hexagon.from_continuum(ell=5, nu=0.9, eps=0.05)
+    g = float(continuum.particle_parameters(5, 0.9, 0.5, eps=0.05).g)
+    states, E = enumerate_states(kernel_mc(particle, g, box, n, 0), box, n)
+    mc = kernel_mc(particle, g, box, n, 11, delayed_acceptance=delayed, cluster_moves=0.5, cluster_link=link)
+    tv_states, tv_levels, z = compare_with_boltzmann(mc, states, E, 0.5 * g, g, 200_000)
+    assert mc.counters["cluster_rebonded"] > 10_000  # translations that make or break bonds
+    assert mc.energy == pytest.approx(mc.box_energy(True), rel=0, abs=1e-12)
+    assert len(np.unique(np.round(E, 10))) >= 5
+    assert z < 5
+    assert tv_levels < 0.02
+    assert tv_states < 0.06
+
+
+def test_linked_cluster_moves_merge_aggregates_at_low_temperature(particle, g):
+    """Two separated pairs, cold: whole-cluster shifts (link 1) can never bring them into contact,
+    linked ones (link 0.5) merge them into one cluster of four, and the bookkeeping follows."""
+    sites = np.array([(0, 0), (1, 0), (5, 5), (6, 5)])
+    out = {}
+    for link in (1.0, 0.5):
+        mc = kernel_mc(particle, g, 10, 4, 2, cluster_moves=1.0, cluster_link=link)
+        mc.place(sites)
+        mc.run(np.array([0.05 * g]), np.array([4000]))
+        out[link] = mc
+        assert mc.energy == pytest.approx(mc.box_energy(True), rel=0, abs=1e-12)
+    assert out[1.0].bonds == 2 and out[1.0].counters["cluster_rebonded"] == 0
+    assert out[0.5].bonds == 5 and out[0.5].counters["cluster_rebonded"] > 0  # a compact rhombus of four
 
 
 @pytest.mark.slow
@@ -441,6 +479,8 @@ def test_state_from_a_checkpoint_continues_the_run(particle, g, tmp_path):
     (dict(record_every=0), "record_every"), (dict(schedule=[(0.1, 10)], steps=11), "steps"),
     (dict(cluster_moves=-0.1), "cluster_moves"), (dict(cluster_moves=1.5), "cluster_moves"),
     (dict(cluster_moves="often"), "cluster_moves"),
+    (dict(cluster_link=-0.5), "cluster_link"), (dict(cluster_link=1.01), "cluster_link"),
+    (dict(cluster_link=float("nan")), "cluster_link"),
 ])
 def test_bad_input_names_the_parameter(particle, g, kw, name):
     kw = dict(dict(g=g), **kw)

@@ -88,18 +88,20 @@ def test_cold_path_unchanged_by_the_option():
     assert a.energy == pytest.approx(a.box_energy(True), rel=0, abs=1e-14)
 
 
-@pytest.mark.parametrize("delayed", [True, False])
-def test_warm_chain_samples_the_boltzmann_weights(delayed):
+@pytest.mark.parametrize("delayed,moves", [(True, {}), (False, {}), (True, dict(cluster_moves=0.5, cluster_link=0.5))])
+def test_warm_chain_samples_the_boltzmann_weights(delayed, moves):
     """Detailed balance with warm starts: the states visited in a 4 x 4 box of 3 particles follow
     exp(-E/T) of the exact enumeration (cold Newton energies). Without the cache, so that every
-    move relaxes its clusters, warm-started wherever a parent is known."""
+    move relaxes its clusters, warm-started wherever a parent is known; with linked cluster moves
+    too, whose shifted particles carry their displacements to where they land."""
     particle, g = setup(STRONG)
     box, n, T_ = 4, 3, 0.5 * g
     states, E = enumerate_states(kernel_mc(particle, g, box, n, 0, "newton", tol=1e-3), box, n)
     mc = kernel_mc(particle, g, box, n, 21 + delayed, "newton", tol=1e-3, parent_start=True,
-                   delayed_acceptance=delayed, cache=False)
+                   delayed_acceptance=delayed, cache=False, **moves)
     _, tv_levels, z = compare_with_boltzmann(mc, states, E, T_, g, samples=100_000)
     assert len(np.unique(np.round(E / g, 9))) >= 5 and mc.counters["warm_starts"] > 0
+    assert mc.counters["cluster_rebonded"] > (5000 if moves else -1)
     assert z < 5 and tv_levels < 0.02
 
 
