@@ -12,14 +12,10 @@ aggregates, the gas), i.e. not equilibrated; the gaps are in the log of montecar
 from matplotlib.lines import Line2D
 
 from pyfrustrate import plotting
+from pyfrustrate.ground_states import EQUILIBRATED_GAP
 from pyfrustrate.io import load_npz, logging_to
 
 MARKERS = {"disk": "o", "fiber": "s", "bulk": "D", "bulk_with_holes": "^", "gas": "x"}
-#: Final energy above the box's predicted ground state (bulk particle energies) beyond which a run
-#: counts as not equilibrated: the criterion of 5 bulk particle energies. A relative criterion
-#: would be too loose (18.9 bulk energies is 1 % of the energy of 400 particles, yet another
-#: structure). The prediction is itself an upper bound (its shapes are a finite family).
-EQUILIBRATED_GAP = 5.0
 
 
 def draw_elongated_bands(ax, mc):

@@ -66,6 +66,19 @@ def mc_finite_size_files():
     return sorted({mc_run_file(*r) for r in runs})
 
 
+def mc_scale_points():
+    """(scan, nu, Gamma) of figX_mc_scale: Fig. 3b's three line scans (the fibre scan, the disk
+    scan, the nu scan) in the large box, each run with every seed of large_seeds."""
+    points = [("fibre", MC["fiber_scan_nu"], G) for G in MC["large_scan_Gamma"]]
+    points += [("disk", MC["disk_scan_nu"], G) for G in MC["large_scan_Gamma"]]
+    points += [("nu", nu, MC["nu_scan_Gamma"]) for nu in MC["large_nu_scan_nu"]]
+    return points
+
+
+def mc_scale_files():
+    return sorted({mc_run_file(nu, G, seed, "large") for _, nu, G in mc_scale_points() for seed in MC["large_seeds"]})
+
+
 def finite_aggregate_files():
     """The finite-size predictions figX_mc_finite_size compares its runs with."""
     nus = {MC["fiber_scan_nu"], *MC["large_nu_scan_nu"]}

@@ -76,6 +76,39 @@ rule montecarlo_finite_aggregates:
         "../scripts/montecarlo_finite_aggregates.py"
 
 
+# Beyond the paper (issue: Monte Carlo at sizes where the diagram can be tested): Fig. 3b's line
+# scans in the large box, every seed, each run against its box's predicted ground state.
+rule montecarlo_scale:
+    input:
+        runs=mc_scale_files(),
+        finite=sorted({finite_aggregate_file(MC["large_n"], nu) for _, nu, _ in mc_scale_points()}),
+    output:
+        "results/montecarlo/scale.npz",
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/montecarlo/scale.log",
+    script:
+        "../scripts/montecarlo_diagram.py"
+
+
+rule figX_mc_scale:
+    input:
+        scale=rules.montecarlo_scale.output,
+        runs=mc_scale_files(),
+    output:
+        pdf=f"{FIGURES}/figX_mc_scale.pdf",
+        png=figure_png("figX_mc_scale"),
+    params:
+        points=mc_scale_points(),
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/figX_mc_scale.log",
+    script:
+        "../../figures/figX_mc_scale.py"
+
+
 rule figX_mc_finite_size:
     input:
         runs=mc_finite_size_files(),

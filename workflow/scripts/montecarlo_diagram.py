@@ -4,7 +4,8 @@ finite-size prediction: the final energy above the best single aggregate of the 
 (ansatz.finite_aggregates), whether that best aggregate is elongated, and the final energy above
 the box's predicted ground state (the best of ground_states.box_candidates: single aggregates, a
 wrapping fibre, several aggregates, the gas) with that ground state's family, and the run's own
-structure in those terms (ground_states.structure, from its clusters)."""
+structure in those terms (ground_states.structure, from its clusters). The same for the scale
+scans (rule montecarlo_scale), whose runs differ by seed too."""
 import numpy as np
 
 from pyfrustrate.ansatz import FiniteAggregates, energy_above_best_single
@@ -41,12 +42,12 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         gap_ground = (float(r["energy"]) - float(candidates.best_energy(g))) / e_bulk
         ground = str(candidates.best_family(g))
         found = structure(r["sites"], int(r["box"]))
-        rows.append((nu, Gamma, kind, size, n, gap, single, gap_ground, ground, found))
-        print(f"nu={nu:g} Gamma={Gamma:g}: {kind} (largest cluster {size} of {n}); "
+        rows.append((nu, Gamma, int(r["seed"]), kind, size, n, gap, single, gap_ground, ground, found))
+        print(f"nu={nu:g} Gamma={Gamma:g} seed {int(r['seed'])}: {kind} (largest cluster {size} of {n}); "
               f"{gap:+.1f} bulk particle energies above the best single aggregate ({single}), "
               f"{gap_ground:+.1f} above the box's ground state ({ground}); the run's structure: {found}")
-    nu, Gamma, kind, size, n, gap, single, gap_ground, ground, found = (np.array(c) for c in zip(*rows))
-    save_npz(snakemake.output[0], provenance=for_job(snakemake), nu=nu, Gamma=Gamma, kind=kind.astype(str), size=size, n=n,  # noqa: F821
+    nu, Gamma, seed, kind, size, n, gap, single, gap_ground, ground, found = (np.array(c) for c in zip(*rows))
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), nu=nu, Gamma=Gamma, seed=seed, kind=kind.astype(str), size=size, n=n,  # noqa: F821
              gap=gap, single_kind=single.astype(str), gap_ground=gap_ground, ground_family=ground.astype(str),
              structure=found.astype(str),
              elongation_threshold=ELONGATION_THRESHOLD,

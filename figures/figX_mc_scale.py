@@ -1,0 +1,92 @@
+"""Beyond the paper: Fig. 3b's three line scans of annealing runs repeated in a larger box, each
+run judged against the predicted ground state of its own box (ell = 5).
+
+Top row, one panel per scan (the fibre scan at fixed nu, the disk scan at fixed nu, the nu scan
+at fixed Gamma): each marker is one run (one per seed), its final energy above the box's
+predicted ground state (ground_states.box_candidates: single aggregates, a fibre wrapping the
+box, several aggregates, the gas) in bulk particle energies e_b. Filled: the run ends in that
+ground state's structure (ground_states.structure); hollow: in another. The grey band is the
+equilibration criterion (within EQUILIBRATED_GAP e_b). Bottom row: the final state of the first
+seed at every point of the scans.
+"""
+import numpy as np
+
+from pyfrustrate import plotting
+from pyfrustrate.ground_states import EQUILIBRATED_GAP
+from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.montecarlo import draw_snapshot
+
+SCANS = {"fibre": ("Gamma", r"$\Gamma$", "fibre scan"), "disk": ("Gamma", r"$\Gamma$", "disk scan"),
+         "nu": ("nu", r"$\nu$", "$\\nu$ scan")}
+SEED_MARKERS = "osD^v<>p"
+
+
+def rows_of(scale, scan, nu, Gamma):
+    """Indices of the runs of the scale summary at (nu, Gamma), by seed."""
+    return [k for k in np.argsort(scale["seed"], kind="stable")
+            if abs(scale["nu"][k] - nu) < 1e-9 and abs(scale["Gamma"][k] - Gamma) < 1e-9]
+
+
+def main(scale_path, run_paths, points, outputs):
+    scale = load_npz(scale_path)
+    runs = {(round(float(r["nu"]), 9), round(float(r["Gamma"]), 9), int(r["seed"])): r
+            for r in (load_npz(p) for p in run_paths)}
+    seeds = sorted({int(s) for s in scale["seed"]})
+    n, box = int(scale["n"][0]), int(next(iter(runs.values()))["box"])
+    scans = [s for s in SCANS if any(p[0] == s for p in points)]
+    fig = plotting.figure(17.8, 13.5)
+    top, width = 0.60, 0.25
+    for i, scan in enumerate(scans):
+        variable, label, title = SCANS[scan]
+        ax = fig.add_axes([0.08 + i * 0.32, top, width, 0.31])
+        ax.axhspan(-1e9, EQUILIBRATED_GAP, color="0.88", zorder=0)
+        ax.axhline(0, color="0.5", lw=0.6, zorder=1)
+        xs, highest = [], EQUILIBRATED_GAP
+        fixed = None
+        for _, nu, G in (p for p in points if p[0] == scan):
+            x = G if variable == "Gamma" else nu
+            fixed = (r"$\nu$ = " + f"{nu:g}") if variable == "Gamma" else (r"$\Gamma$ = " + f"{G:g}")
+            xs.append(x)
+            for k in rows_of(scale, scan, nu, G):
+                gap = float(scale["gap_ground"][k])
+                same = str(scale["structure"][k]) == str(scale["ground_family"][k])
+                m = SEED_MARKERS[seeds.index(int(scale["seed"][k])) % len(SEED_MARKERS)]
+                color = "C0" if gap <= EQUILIBRATED_GAP else "C3"
+                ax.plot(x, gap, m, ms=5, mfc=color if same else "w", mec=color, mew=1.1, zorder=3)
+                highest = max(highest, gap)
+            ground = [str(scale["ground_family"][k]) for k in rows_of(scale, scan, nu, G)][:1]
+            if ground:
+                ax.annotate(ground[0].replace("wrapping_fiber", "wrap").replace("aggregates", "agg"), (x, 0),
+                            xytext=(0, -10), textcoords="offset points", ha="center", fontsize=5, color="0.35")
+        ax.set_xlim(min(xs) - 0.12 * (max(xs) - min(xs) + 0.1), max(xs) + 0.12 * (max(xs) - min(xs) + 0.1))
+        ax.set_ylim(-0.12 * highest - 3, 1.12 * highest)
+        ax.set_xlabel(label)
+        ax.set_ylabel(r"$E - E_\mathrm{ground}$ ($e_b$)" if i == 0 else "")
+        in_scan = [k for _, nu, G in (p for p in points if p[0] == scan) for k in rows_of(scale, scan, nu, G)]
+        within = int((scale["gap_ground"][in_scan] <= EQUILIBRATED_GAP).sum())
+        ax.set_title(f"{title}, {fixed}: {within}/{len(in_scan)} within {EQUILIBRATED_GAP:g}", fontsize=7)
+        plotting.panel_label(ax, "abc"[i])
+    # Snapshots of the first seed, scan by scan.
+    for j, (scan, nu, G) in enumerate(points):
+        run = runs.get((round(float(nu), 9), round(float(G), 9), seeds[0]))
+        if run is None:
+            continue
+        ax = fig.add_axes([0.04 + j * (0.92 / len(points)), 0.08, 0.92 / len(points) * 0.95, 0.36])
+        draw_snapshot(run["sites"], box, ax=ax)
+        k = rows_of(scale, scan, nu, G)[0]
+        ax.set_title(f"{SCANS[scan][2]}\n$\\nu$={nu:g}, $\\Gamma$={G:g}\n{float(scale['gap_ground'][k]):+.1f} $e_b$",
+                     fontsize=5.5)
+    total = len(scale["gap_ground"])
+    within = int((scale["gap_ground"] <= EQUILIBRATED_GAP).sum())
+    same = int((scale["structure"] == scale["ground_family"]).sum())
+    fig.text(0.04, 0.005,
+             f"{n} particles in {box} x {box}, seeds {', '.join(map(str, seeds))}: {within} of {total} runs end within "
+             f"{EQUILIBRATED_GAP:g} bulk particle energies of their box's predicted ground state, {same} in its structure "
+             "(filled markers). Grey labels: the ground state's family.", fontsize=6)
+    plotting.save(fig, outputs)
+
+
+if "snakemake" in globals():
+    with logging_to(snakemake.log[0]):  # noqa: F821
+        main(snakemake.input.scale[0], snakemake.input.runs, snakemake.params.points,  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
