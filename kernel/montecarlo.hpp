@@ -67,11 +67,10 @@ struct MonteCarloOptions {
     // bonds after the move), so Metropolis-Hastings accepts with min(1, exp(-dE/T) (1-p)^(b'-b))
     // (a cluster move with a fixed link probability; Whitelam & Geissler's virtual-move Monte
     // Carlo, J. Chem. Phys. 127, 154101 (2007), makes links depend on pair energies, which an
-    // elastic energy does not split into). With p < 1
-    // aggregates meet and merge in one move, and the reverse move splits them. p = 1: S is the
-    // whole (finite) cluster and (1 - p)^(b' - b) forbids any new contact, so the move changes
-    // neither shape, bonds nor energy and needs no relaxation. cluster_moves = 0: particle moves
-    // only.
+    // elastic energy does not split into). With p < 1 aggregates meet and merge in one move,
+    // and the reverse move splits them. p = 1: S is the whole cluster and (1 - p)^(b' - b)
+    // forbids any new contact, so the move changes neither shape, bonds nor energy and needs no
+    // relaxation. cluster_moves = 0: particle moves only.
     double cluster_moves = 0.0;
     double cluster_link = 1.0;
     bool cache = true;        // cache relaxed energies by canonical shape
