@@ -15,8 +15,7 @@ import numpy as np
 
 from pyfrustrate import plotting
 from pyfrustrate.io import load_npz, logging_to
-from pyfrustrate.montecarlo import clusters, draw_snapshot
-from pyfrustrate.topology import site_positions
+from pyfrustrate.montecarlo import draw_snapshot, largest_cluster_extent
 
 
 # Marker of each box on the diagram, and the same glyph on its snapshot panels.
@@ -47,12 +46,7 @@ def main(diagram_path, continuum_path, snapshot_paths, dense, convention, output
     height = 0.82 / rows  # the panels end above the footer
     # Every panel on one scale, so that widths compare across panels: the largest extent of any
     # run's largest cluster, placed as draw_snapshot places it (centre in the box).
-    extents = []
-    for r in runs:
-        box = int(r["box"])
-        coords, _ = max(clusters(r["sites"], box), key=lambda c: len(c[0]))
-        xy = site_positions(coords - np.floor(coords.mean(axis=0) / box).astype(int) * box)
-        extents.append((xy.min(axis=0), xy.max(axis=0)))
+    extents = [largest_cluster_extent(r["sites"], int(r["box"])) for r in runs]
     half = max(0.5 * max(x1 - x0, (y1 - y0) / 0.8) for (x0, y0), (x1, y1) in extents) + 2.0
     for k, (r, kind, ((x0, y0), (x1, y1))) in enumerate(zip(runs, kinds, extents), start=1):
         i, j = divmod(k - 1, cols)

@@ -7,14 +7,14 @@ predicted ground state (ground_states.box_candidates: single aggregates, a fibre
 box, several aggregates, the gas) in bulk particle energies e_b. Filled: the run ends in that
 ground state's structure (ground_states.structure); hollow: in another. The grey band is the
 equilibration criterion (within EQUILIBRATED_GAP e_b). Bottom row: the final state of the first
-seed at every point of the scans.
+seed at every point of the scans, each centred on its largest cluster, all on one scale.
 """
 import numpy as np
 
 from pyfrustrate import plotting
 from pyfrustrate.ground_states import EQUILIBRATED_GAP
 from pyfrustrate.io import load_npz, logging_to
-from pyfrustrate.montecarlo import draw_snapshot
+from pyfrustrate.montecarlo import draw_snapshot, largest_cluster_extent
 
 SCANS = {"fibre": ("Gamma", r"$\Gamma$", "fibre scan"), "disk": ("Gamma", r"$\Gamma$", "disk scan"),
          "nu": ("nu", r"$\nu$", "$\\nu$ scan")}
@@ -34,11 +34,11 @@ def main(scale_path, run_paths, points, outputs):
     seeds = sorted({int(s) for s in scale["seed"]})
     n, box = int(scale["n"][0]), int(next(iter(runs.values()))["box"])
     scans = [s for s in SCANS if any(p[0] == s for p in points)]
-    fig = plotting.figure(17.8, 13.5)
-    top, width = 0.60, 0.25
+    fig = plotting.figure(17.8, 12.0)
+    top, width = 0.58, 0.25
     for i, scan in enumerate(scans):
         variable, label, title = SCANS[scan]
-        ax = fig.add_axes([0.08 + i * 0.32, top, width, 0.31])
+        ax = fig.add_axes([0.08 + i * 0.32, top, width, 0.34])
         ax.axhspan(-1e9, EQUILIBRATED_GAP, color="0.88", zorder=0)
         ax.axhline(0, color="0.5", lw=0.6, zorder=1)
         xs, highest = [], EQUILIBRATED_GAP
@@ -66,13 +66,20 @@ def main(scale_path, run_paths, points, outputs):
         within = int((scale["gap_ground"][in_scan] <= EQUILIBRATED_GAP).sum())
         ax.set_title(f"{title}, {fixed}: {within}/{len(in_scan)} within {EQUILIBRATED_GAP:g}", fontsize=7)
         plotting.panel_label(ax, "abc"[i])
-    # Snapshots of the first seed, scan by scan.
-    for j, (scan, nu, G) in enumerate(points):
-        run = runs.get((round(float(nu), 9), round(float(G), 9), seeds[0]))
-        if run is None:
-            continue
-        ax = fig.add_axes([0.04 + j * (0.92 / len(points)), 0.08, 0.92 / len(points) * 0.95, 0.36])
+    # Snapshots of the first seed, scan by scan, each centred on its largest cluster, all on one
+    # scale (the largest extent of any of them).
+    shown = [(scan, nu, G, runs.get((round(float(nu), 9), round(float(G), 9), seeds[0]))) for scan, nu, G in points]
+    shown = [item for item in shown if item[3] is not None]
+    extents = [largest_cluster_extent(run["sites"], box) for *_, run in shown]
+    half = max(0.5 * max(x1 - x0, y1 - y0) for (x0, y0), (x1, y1) in extents) + 2.0
+    width = 0.92 / max(len(shown), 1)
+    for j, ((scan, nu, G, run), ((x0, y0), (x1, y1))) in enumerate(zip(shown, extents)):
+        ax = fig.add_axes([0.04 + j * width, 0.07, width * 0.96, 0.36])
         draw_snapshot(run["sites"], box, ax=ax)
+        ax.set_xlim(0.5 * (x0 + x1) - half, 0.5 * (x0 + x1) + half)
+        ax.set_ylim(0.5 * (y0 + y1) - half, 0.5 * (y0 + y1) + half)
+        ax.set_xticks([])
+        ax.set_yticks([])
         k = rows_of(scale, scan, nu, G)[0]
         ax.set_title(f"{SCANS[scan][2]}\n$\\nu$={nu:g}, $\\Gamma$={G:g}\n{float(scale['gap_ground'][k]):+.1f} $e_b$",
                      fontsize=5.5)

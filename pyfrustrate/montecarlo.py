@@ -679,6 +679,22 @@ def _reference_outlines(coords, tiling):
     return site_positions(coords, tiling)[:, None, :] + offsets[sub]
 
 
+def _placed(coords, box):
+    """Unwrapped cluster sites shifted by whole boxes so that their centre lies in the box (where
+    ``draw_snapshot`` draws them)."""
+    coords = coords.copy()
+    coords[:, :2] -= np.floor(coords[:, :2].mean(axis=0) / box).astype(int) * box
+    return coords
+
+
+def largest_cluster_extent(sites, box, tiling="hexagon") -> tuple[np.ndarray, np.ndarray]:
+    """Lower-left and upper-right corners of the site centres of the largest cluster, as
+    ``draw_snapshot`` places it: the window to centre a snapshot panel on."""
+    coords, _ = clusters(sites, box, tiling)[0]
+    xy = site_positions(_placed(coords, box), tiling)
+    return xy.min(axis=0), xy.max(axis=0)
+
+
 def draw_snapshot(sites, box, ax=None, particle=None, *, magnify=1.0, cmap="tab10", outline=True, tiling=None):
     """Draw particles as polygons at their lattice positions, one colour per cluster (isolated
     particles grey), each cluster unwrapped (so a cluster across the periodic boundary looks
@@ -700,8 +716,7 @@ def draw_snapshot(sites, box, ax=None, particle=None, *, magnify=1.0, cmap="tab1
     if tiling is None:
         tiling = particle.tiling if particle is not None else "hexagon"
     for coords, rank in clusters(sites, box, tiling):
-        coords = coords.copy()
-        coords[:, :2] -= np.floor(coords[:, :2].mean(axis=0) / box).astype(int) * box
+        coords = _placed(coords, box)
         corners = _reference_outlines(coords, tiling)
         if particle is not None and rank == 0 and len(coords) > 1:
             from . import relaxation as _relax
