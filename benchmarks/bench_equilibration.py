@@ -1,6 +1,6 @@
 """Does annealing reach the ground state of its box? Cluster-move settings at equal sweeps (issue 15).
 
-For each system, seed and setting (``cluster_moves``, ``cluster_link``), ``pyfrustrate.anneal``
+For each system, seed and setting (``cluster_moves``, ``cluster_link``, ``bonded_moves``), ``pyfrustrate.anneal``
 runs ``sweeps`` sweeps (Newton, tol 1e-3, linear schedule from T0 = g) and the final energy is
 compared with the box's predicted ground state (``ground_states.box_candidates``: single
 aggregates, a wrapping fibre, several aggregates, the gas), in bulk particle energies ``e_b``.
@@ -9,7 +9,8 @@ CPU time are against it, for the same seed, measured in the same run.
 
 Default system: 400 particles in 85 x 85 at ell = 5, eps = 0.01, nu = 0.9, Gamma = 0.3 (the case
 of ``bench_replica_exchange.py``), settings ``0.02:1`` (the former workflow: whole clusters,
-rejected on contact), ``0.02:0.8``, ``0.1:0.8``, ``0.2:0.8`` (``cluster_moves:cluster_link``).
+rejected on contact), ``0.02:0.8``, ``0.1:0.8`` and ``0.05:0.9:0.5``
+(``cluster_moves:cluster_link[:bonded_moves]``).
 
 Usage: ``python benchmarks/bench_equilibration.py [--quick] [--n 400 --box 85 --nu 0.9
 --Gamma 0.3 --sweeps 4000 --settings 0.02:1 0.1:0.8 --seeds 1 2 3 --jobs 2]``
@@ -28,13 +29,15 @@ from _common import import_pyfrustrate, machine_line, source_line, table  # noqa
 
 def _setting(text):
     try:
-        moves, link = (float(x) for x in text.split(":"))
+        values = [float(x) for x in text.split(":")]
+        if len(values) not in (2, 3):
+            raise ValueError
     except ValueError:
-        raise argparse.ArgumentTypeError(f"a setting is cluster_moves:cluster_link, got {text!r}") from None
-    return moves, link
+        raise argparse.ArgumentTypeError(f"a setting is cluster_moves:cluster_link[:bonded_moves], got {text!r}") from None
+    return tuple(values) + (0.0,) * (3 - len(values))
 
 
-def _run(args, seed, moves, link):
+def _run(args, seed, moves, link, bonded):
     """One annealing run: (energy, largest cluster, structure, CPU seconds, counters)."""
     import_pyfrustrate()
     from pyfrustrate import Hexagon, anneal, continuum
@@ -44,7 +47,7 @@ def _run(args, seed, moves, link):
     g = float(continuum.particle_parameters(args.ell, args.nu, args.Gamma, eps=args.eps).g)
     cpu = time.process_time()
     r = anneal(particle, g, box=args.box, n=args.n, steps=args.sweeps * args.n, seed=seed, method="newton",
-               tol=1e-3, cluster_moves=moves, cluster_link=link, progress=False)
+               tol=1e-3, cluster_moves=moves, cluster_link=link, bonded_moves=bonded, progress=False)
     cpu = time.process_time() - cpu
     return r.energy, max(len(c) for c in r.clusters()), structure(r.sites, args.box), cpu, r.counters
 
@@ -59,8 +62,9 @@ def main(argv=None):
     ap.add_argument("--ell", type=float, default=5.0)
     ap.add_argument("--eps", type=float, default=0.01)
     ap.add_argument("--sweeps", type=int, default=4000)
-    ap.add_argument("--settings", type=_setting, nargs="+", default=[(0.02, 1.0), (0.02, 0.8), (0.1, 0.8), (0.2, 0.8)],
-                    help="cluster_moves:cluster_link pairs; the first is the baseline")
+    ap.add_argument("--settings", type=_setting, nargs="+",
+                    default=[(0.02, 1.0, 0.0), (0.02, 0.8, 0.0), (0.1, 0.8, 0.0), (0.05, 0.9, 0.5)],
+                    help="cluster_moves:cluster_link[:bonded_moves] (default 0); the first is the baseline")
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     ap.add_argument("--jobs", type=int, default=2, help="runs side by side (processes)")
     args = ap.parse_args(argv)
@@ -79,24 +83,24 @@ def main(argv=None):
     print(f"{args.n} particles in {args.box} x {args.box}, ell = {args.ell:g}, nu = {args.nu:g}, Gamma = {args.Gamma:g} "
           f"(g = {g:.4g}); predicted ground state: {candidates.best_family(g)}, {ground / e_bulk:.1f} e_b; "
           f"{args.sweeps} sweeps per run, {args.jobs} side by side")
-    jobs = [(seed, moves, link) for seed in args.seeds for moves, link in args.settings]
+    jobs = [(seed, *setting) for seed in args.seeds for setting in args.settings]
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
         futures = {job: pool.submit(_run, args, *job) for job in jobs}
         results = {job: f.result() for job, f in futures.items()}
     rows, gaps = [], {}
-    for seed, moves, link in jobs:
-        energy, largest, found, cpu, counters = results[(seed, moves, link)]
+    for seed, *setting in jobs:
+        energy, largest, found, cpu, counters = results[(seed, *setting)]
         gap = (energy - ground) / e_bulk
         base_energy, _, _, base_cpu, _ = results[(seed, *args.settings[0])]
         base_gap = (base_energy - ground) / e_bulk
-        gaps.setdefault((moves, link), []).append(gap)
-        rows.append((seed, f"{moves:g}:{link:g}", f"{gap:.1f}", f"{gap / base_gap:.2f}" if base_gap > 0 else "-",
+        gaps.setdefault(tuple(setting), []).append(gap)
+        rows.append((seed, ":".join(f"{x:g}" for x in setting), f"{gap:.1f}", f"{gap / base_gap:.2f}" if base_gap > 0 else "-",
                      found, largest, counters["cluster_rebonded"], f"{cpu:.0f} s", f"{cpu / base_cpu:.2f}"))
-    print(table(rows, ["seed", "moves:link", "gap (e_b)", "gap / baseline", "structure", "largest", "merges+splits",
+    print(table(rows, ["seed", "moves:link:bonded", "gap (e_b)", "gap / baseline", "structure", "largest", "merges+splits",
                        "CPU", "CPU / baseline"]))
     print()
-    print(table([(f"{m:g}:{k:g}", f"{sum(v) / len(v):.1f}", f"{sum(x < 5 for x in v)}/{len(v)}")
-                 for (m, k), v in gaps.items()], ["moves:link", "mean gap (e_b)", "within 5 e_b"]))
+    print(table([(":".join(f"{x:g}" for x in setting), f"{sum(v) / len(v):.1f}", f"{sum(x < 5 for x in v)}/{len(v)}")
+                 for setting, v in gaps.items()], ["moves:link:bonded", "mean gap (e_b)", "within 5 e_b"]))
 
 
 if __name__ == "__main__":

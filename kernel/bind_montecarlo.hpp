@@ -44,7 +44,8 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                    "translations and the symmetries the particle and the tiling share.")
         .def(py::init([](const Model& model, double g, int box, int n, std::uint64_t seed, const std::string& method,
                          double tol, int max_iter, bool cache, bool warm_start, bool incremental, std::size_t cache_limit,
-                         bool delayed_acceptance, double bond_deformation, double cluster_moves, double cluster_link, bool parent_start) {
+                         bool delayed_acceptance, double bond_deformation, double cluster_moves, double cluster_link, double bonded_moves,
+                         bool parent_start) {
                  MonteCarloOptions o;
                  if (method == "linear") o.relax.method = RelaxMethod::Linear;
                  else if (method == "lbfgs") o.relax.method = RelaxMethod::Lbfgs;
@@ -68,6 +69,9 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                  if (!(cluster_link >= 0 && cluster_link <= 1))
                      throw std::invalid_argument("cluster_link must lie in [0, 1], got " + std::to_string(cluster_link));
                  o.cluster_link = cluster_link;
+                 if (!(bonded_moves >= 0 && bonded_moves < 1))  // at 1 a particle could never leave an aggregate
+                     throw std::invalid_argument("bonded_moves must lie in [0, 1), got " + std::to_string(bonded_moves));
+                 o.bonded_moves = bonded_moves;
                  if (parent_start && o.relax.method != RelaxMethod::Newton)
                      throw std::invalid_argument("parent_start needs method='newton'");
                  o.parent_start = parent_start;
@@ -78,14 +82,15 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
              py::arg("tol") = 1e-7, py::arg("max_iter") = 100000, py::arg("cache") = true, py::arg("warm_start") = true,
              py::arg("incremental") = true, py::arg("cache_limit") = std::size_t(1) << 24,
              py::arg("delayed_acceptance") = true, py::arg("bond_deformation") = 0.0, py::arg("cluster_moves") = 0.0,
-             py::arg("cluster_link") = 1.0, py::arg("parent_start") = false,
+             py::arg("cluster_link") = 1.0, py::arg("bonded_moves") = 0.0, py::arg("parent_start") = false,
              "Random initial placement drawn from the seeded std::mt19937_64. tol is the absolute L-BFGS gradient "
              "tolerance (NLopt works in units of the model's step_scale); cache_limit the stored key entries before the cache is cleared; delayed_acceptance screens "
              "moves with the surrogate energy -(g - bond_deformation) * bonds before relaxing anything (same "
              "Boltzmann distribution); cluster_moves is the probability of a cluster translation: a set grown from "
              "a random particle by following each bond with probability cluster_link, shifted by a random lattice vector "
              "and accepted with the Metropolis-Hastings ratio (cluster_link = 1: whole clusters, rejected on any overlap or "
-             "new contact, so shape and energy unchanged; below 1 aggregates can merge and split); parent_start (method='newton') relaxes the clusters a move makes "
+             "new contact, so shape and energy unchanged; below 1 aggregates can merge and split); bonded_moves is the probability that a particle move "
+             "targets an empty site next to another particle (aggregation-volume-bias, with its Hastings ratio); parent_start (method='newton') relaxes the clusters a move makes "
              "from the relaxed displacements of the clusters they came from, exact Hessian from the first step (energies "
              "equal the cold start's to the tolerance, not to the last bit); incremental=False re-minimises every cluster of the box on every move.")
         .def(

@@ -73,6 +73,16 @@ struct MonteCarloOptions {
     // relaxation. cluster_moves = 0: particle moves only.
     double cluster_moves = 0.0;
     double cluster_link = 1.0;
+    // Probability that a particle move targets an empty site next to another particle (a random
+    // other particle, a random one of its neighbouring sites) instead of a random empty site:
+    // aggregation-volume-bias moves (Chen & Siepmann, J. Phys. Chem. B 104, 8725 (2000)), which
+    // propose the surface moves that reshape an aggregate far more often. With w this
+    // probability, E empty sites, D neighbours per site and c the occupied neighbours of the
+    // target (the moving particle excluded), the proposal probability of a move is
+    // ((1 - w) / E + w c_target / (D (N - 1))) / N, the reverse one the same with c of the
+    // site left; Metropolis-Hastings takes their ratio. 0: random empty sites only; below 1, or
+    // a particle could never leave an aggregate (the chain would not be ergodic).
+    double bonded_moves = 0.0;
     bool cache = true;        // cache relaxed energies by canonical shape
     bool incremental = true;  // false: re-minimise every cluster of the box on every move
                               // (the naive baseline of the benchmark; no cache either)
@@ -659,7 +669,18 @@ template <class Model>
 inline bool MonteCarlo<Model>::particle_step(double T) {
     const int p = static_cast<int>(uniform_index(particles_.size()));
     const int a = particles_[p];
-    const int b = random_empty_site();
+    const int N = n();
+    // The target: a random empty site, or (bonded_moves) a random neighbour site of a random
+    // other particle, refused if occupied. No deviate is drawn without bonded moves.
+    int b;
+    if (options_.bonded_moves > 0 && uniform01() < options_.bonded_moves) {
+        if (N < 2) return false;
+        const int q = static_cast<int>(uniform_index(N - 1));
+        b = box_.next(particles_[q >= p ? q + 1 : q], static_cast<int>(uniform_index(box_.neighbours())));
+        if (occupant_[b] >= 0) return false;
+    } else {
+        b = random_empty_site();
+    }
 
     const int lost = occupied_neighbours(a);  // bonds of the particle at a (b is empty)
     // The move, undone unless accepted.
@@ -680,9 +701,18 @@ inline bool MonteCarlo<Model>::particle_step(double T) {
     // so below the gas threshold pairs would never break).
     const bool delayed = options_.delayed_acceptance && T > 0;
     const double surrogate = delayed ? -(g_ - options_.bond_deformation) * (gained - lost) : 0.0;
+    // Bonded moves: the log ratio of the reverse to the forward proposal probability (gained =
+    // occupied neighbours of b without the mover, lost = those of a), in the first stage.
+    double log_hastings = 0.0;
+    if (options_.bonded_moves > 0 && N > 1) {
+        const double w = options_.bonded_moves, uniform = (1 - w) / (box_.n_sites() - N),
+                     bonded = w / (static_cast<double>(box_.neighbours()) * (N - 1));
+        const double forward = uniform + bonded * gained, reverse = uniform + bonded * lost;
+        log_hastings = std::log(reverse / forward);  // reverse > 0: w < 1
+    }
     if (options_.delayed_acceptance) {
         const double u = uniform01();
-        if (delayed && !metropolis(surrogate, T, u)) {
+        if (delayed && !metropolis(surrogate - T * log_hastings, T, u)) {
             undo();
             ++counters.screened;
             return false;
@@ -704,9 +734,10 @@ inline bool MonteCarlo<Model>::particle_step(double T) {
         undo();
         throw;
     }
-    // Metropolis on dE (or, second stage, on dE - dE_s).
+    // Metropolis-Hastings on dE (or, second stage, on dE - dE_s, the proposal ratio having been
+    // taken in the first).
     const double delta = -g_ * (gained - lost) + (new_deformation - old_deformation) - surrogate;
-    if (!metropolis(delta, T, uniform01())) {
+    if (!metropolis(delta - (delayed ? 0.0 : T * log_hastings), T, uniform01())) {
         undo();
         return false;
     }

@@ -320,6 +320,7 @@ def _read_checkpoint(path, signature):
     saved = dict(data["signature"])
     saved.setdefault("cluster_moves", 0.0)  # checkpoints written before cluster moves existed
     saved.setdefault("cluster_link", 1.0)  # ... and before linked cluster moves
+    saved.setdefault("bonded_moves", 0.0)  # ... and before bonded particle moves
     _check_signature(path, saved, signature)
     return data
 
@@ -339,7 +340,7 @@ def _check_signature(path, saved, signature):
 def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None, method="lbfgs", tol=1e-3,
            checkpoint=None, progress=True, *, T0=None, T_end=None, record_every=None, checkpoint_interval=60.0,
            cache=True, warm_start=True, delayed_acceptance=True, cluster_moves=0.0, cluster_link=1.0,
-           max_iter=100_000, callback=None, state=None) -> AnnealResult:
+           bonded_moves=0.0, max_iter=100_000, callback=None, state=None) -> AnnealResult:
     """Simulated annealing of the topology of ``n`` particles in a periodic ``box x box`` lattice.
 
     Parameters
@@ -424,6 +425,13 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
         with another (and the reverse move splits them); those moves relax the clusters they
         make. 1 (default): whole clusters only, rejected on contact, as described above. The
         workflow uses 0.9 with ``cluster_moves=0.05`` (measured in the README).
+    bonded_moves : float
+        In [0, 1): the probability that a particle move takes the particle next to a random other
+        particle (a random one of its neighbouring sites, refused if occupied) instead of to a
+        random empty site (aggregation-volume-bias moves, Chen & Siepmann 2000). Accepted with the
+        ratio of the reverse to the forward proposal probability, so the Boltzmann distribution is
+        kept; surface moves that reshape aggregates are then proposed far more often than among
+        all empty sites of a sparse box. Default 0.
     max_iter : int
         Cap on energy evaluations per L-BFGS relaxation.
     callback : callable or None
@@ -465,6 +473,9 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     max_iter = _integer("max_iter", max_iter, 1)
     cluster_moves = _probability("cluster_moves", cluster_moves)
     cluster_link = _probability("cluster_link", cluster_link)
+    bonded_moves = _probability("bonded_moves", bonded_moves)
+    if bonded_moves == 1.0:
+        raise ValueError("bonded_moves must be below 1: at 1 a particle could never leave an aggregate")
     temps, block_steps, stage_of_block, n_stages = _plan(steps, schedule, T0, T_end, record_every)
     total_steps = int(block_steps.sum())
     cum_steps = np.cumsum(block_steps)
@@ -474,7 +485,8 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     bond_deformation = float(particle.bulk_energy_per_particle) / tiling["bulk_bonds_per_particle"]
     signature = dict(particle=particle_params, g=g, box=box, n=n, seed=seed, method=method, tol=float(tol),
                      max_iter=max_iter, warm_start=bool(warm_start), delayed_acceptance=bool(delayed_acceptance),
-                     cluster_moves=cluster_moves, cluster_link=cluster_link, plan=plan_digest)
+                     cluster_moves=cluster_moves, cluster_link=cluster_link, bonded_moves=bonded_moves,
+                     plan=plan_digest)
     params = dict(signature, particle_type=type(particle).__name__, schedule=_schedule_description(schedule),
                   T0=T0, T_end=T_end, steps=total_steps, record_every=record_every, cache=bool(cache),
                   bond_deformation=bond_deformation)
@@ -482,7 +494,7 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     mc = _kernel.MonteCarlo(model, g, box, n, seed, method=method, tol=float(tol) * particle.force_scale,
                             max_iter=max_iter, cache=bool(cache), warm_start=bool(warm_start),
                             delayed_acceptance=bool(delayed_acceptance), bond_deformation=bond_deformation,
-                            cluster_moves=cluster_moves, cluster_link=cluster_link,
+                            cluster_moves=cluster_moves, cluster_link=cluster_link, bonded_moves=bonded_moves,
                             parent_start=bool(warm_start) and method == "newton")
     energies, accepted = [], []
     done, elapsed_before, resumed = 0, 0.0, False
