@@ -21,7 +21,7 @@ SCANS = {"fibre": ("Gamma", r"$\Gamma$", "fibre scan"), "disk": ("Gamma", r"$\Ga
 SEED_MARKERS = "osD^v<>p"
 
 
-def rows_of(scale, scan, nu, Gamma):
+def rows_of(scale, nu, Gamma):
     """Indices of the runs of the scale summary at (nu, Gamma), by seed."""
     return [k for k in np.argsort(scale["seed"], kind="stable")
             if abs(scale["nu"][k] - nu) < 1e-9 and abs(scale["Gamma"][k] - Gamma) < 1e-9]
@@ -47,14 +47,14 @@ def main(scale_path, run_paths, points, outputs):
             x = G if variable == "Gamma" else nu
             fixed = (r"$\nu$ = " + f"{nu:g}") if variable == "Gamma" else (r"$\Gamma$ = " + f"{G:g}")
             xs.append(x)
-            for k in rows_of(scale, scan, nu, G):
+            for k in rows_of(scale, nu, G):
                 gap = float(scale["gap_ground"][k])
                 same = str(scale["structure"][k]) == str(scale["ground_family"][k])
                 m = SEED_MARKERS[seeds.index(int(scale["seed"][k])) % len(SEED_MARKERS)]
                 color = "C0" if gap <= EQUILIBRATED_GAP else "C3"
                 ax.plot(x, gap, m, ms=5, mfc=color if same else "w", mec=color, mew=1.1, zorder=3)
                 highest = max(highest, gap)
-            ground = [str(scale["ground_family"][k]) for k in rows_of(scale, scan, nu, G)][:1]
+            ground = [str(scale["ground_family"][k]) for k in rows_of(scale, nu, G)][:1]
             if ground:
                 ax.annotate(ground[0].replace("wrapping_fiber", "wrap").replace("aggregates", "agg"), (x, 0),
                             xytext=(0, -10), textcoords="offset points", ha="center", fontsize=5, color="0.35")
@@ -62,7 +62,7 @@ def main(scale_path, run_paths, points, outputs):
         ax.set_ylim(-0.12 * highest - 3, 1.12 * highest)
         ax.set_xlabel(label)
         ax.set_ylabel(r"$E - E_\mathrm{ground}$ ($e_b$)" if i == 0 else "")
-        in_scan = [k for _, nu, G in (p for p in points if p[0] == scan) for k in rows_of(scale, scan, nu, G)]
+        in_scan = [k for _, nu, G in (p for p in points if p[0] == scan) for k in rows_of(scale, nu, G)]
         within = int((scale["gap_ground"][in_scan] <= EQUILIBRATED_GAP).sum())
         ax.set_title(f"{title}, {fixed}: {within}/{len(in_scan)} within {EQUILIBRATED_GAP:g}", fontsize=7)
         plotting.panel_label(ax, "abc"[i])
@@ -80,7 +80,7 @@ def main(scale_path, run_paths, points, outputs):
         ax.set_ylim(0.5 * (y0 + y1) - half, 0.5 * (y0 + y1) + half)
         ax.set_xticks([])
         ax.set_yticks([])
-        k = rows_of(scale, scan, nu, G)[0]
+        k = rows_of(scale, nu, G)[0]
         ax.set_title(f"{SCANS[scan][2]}\n$\\nu$={nu:g}, $\\Gamma$={G:g}\n{float(scale['gap_ground'][k]):+.1f} $e_b$",
                      fontsize=5.5)
     total = len(scale["gap_ground"])
