@@ -345,10 +345,11 @@ def test_bonded_particle_moves_keep_the_boltzmann_weights(box, n, delayed, bonde
 
 
 def test_linked_cluster_moves_keep_the_boltzmann_weights_of_triangles():
-    """Linked cluster moves and bonded particle moves together on the triangular tiling (two sublattices, three bonds per particle): a 3 x 3 box
-    of 18 sites, 4 triangles (3 give only three energy levels). Sites are numbered
-    sublattice + 2 (i + 3 j), as ``run`` records them. Over its 3060 states the sampled state
-    frequencies are too noisy to compare one by one: energy levels only."""
+    """Linked cluster moves and bonded particle moves together on the triangular tiling (two
+    sublattices, three bonds per particle): a 3 x 3 box of 18 sites, 4 triangles (3 give only
+    three energy levels). Sites are numbered sublattice + 2 (i + 3 j), as ``run`` records them.
+    Over its 3060 states the sampled state frequencies are too noisy to compare one by one:
+    energy levels only."""
     particle = pyfrustrate.Triangle.from_continuum(2.5, 0.6, eps=0.05)
     g = float(continuum.particle_parameters(2.5, 0.6, 0.5, eps=0.05, tiling="triangle").g)
     box, n = 3, 4
