@@ -171,6 +171,14 @@ private:
     void relax_changed_clusters(const int* arrived, std::size_t n_arrived, const int* vacated, std::size_t n_vacated,
                                 double& old_deformation, double& new_deformation);
     void adopt_fresh_clusters();
+    // Delayed acceptance of a move that changes the bonds by bond_change, log_hastings being the
+    // log ratio of its reverse to its forward proposal probability. First stage: the surrogate
+    // energy (returned in `surrogate`, 0 unless delayed) with the proposal ratio, before any
+    // relaxation; false if the move is screened out. Second stage: on the energy change delta,
+    // dE - dE_s when delayed, else plain Metropolis-Hastings. Each draws one deviate (the first
+    // only with delayed acceptance on), whatever the energies.
+    bool passes_first_stage(int bond_change, double log_hastings, double T, double& surrogate);
+    bool passes_second_stage(double delta, double surrogate, double log_hastings, double T);
     double shape_energy(const ShapeKey& key, const Cluster& cluster);  // from the key's representative
     double raw_energy(const Cluster& cluster);                        // from the sites as found
     // Relaxed energy of a fresh cluster of a move through the cache, warm-started from the
@@ -529,6 +537,29 @@ inline void MonteCarlo<Model>::adopt_fresh_clusters() {
 }
 
 template <class Model>
+inline bool MonteCarlo<Model>::passes_first_stage(int bond_change, double log_hastings, double T, double& surrogate) {
+    // The surrogate costs no relaxation. Its deviate is drawn whatever the energy change, so that
+    // roundoff in an energy can never shift the random sequence. At T = 0 there is no
+    // distribution to keep, only a descent: every move that lowers the energy is taken, which the
+    // two stages would refuse whenever the surrogate overstates a gain (a bound pair of triangles
+    // costs far less than e_b per bond, so below the gas threshold pairs would never break).
+    const bool delayed = options_.delayed_acceptance && T > 0;
+    surrogate = delayed ? -(g_ - options_.bond_deformation) * bond_change : 0.0;
+    if (!options_.delayed_acceptance) return true;
+    const double u = uniform01();
+    if (!delayed || metropolis(surrogate - T * log_hastings, T, u)) return true;
+    ++counters.screened;
+    return false;
+}
+
+template <class Model>
+inline bool MonteCarlo<Model>::passes_second_stage(double delta, double surrogate, double log_hastings, double T) {
+    // Delayed: the proposal ratio was taken in the first stage.
+    const bool delayed = options_.delayed_acceptance && T > 0;
+    return metropolis(delayed ? delta - surrogate : delta - T * log_hastings, T, uniform01());
+}
+
+template <class Model>
 inline bool MonteCarlo<Model>::cluster_step(double T) {
     ++counters.cluster_attempted;
     const int a = particles_[uniform_index(particles_.size())];
@@ -629,16 +660,10 @@ inline bool MonteCarlo<Model>::cluster_step(double T) {
         return true;
     }
 
-    // Delayed acceptance as for particle moves, the first stage carrying the Hastings factor.
-    const bool delayed = options_.delayed_acceptance && T > 0;
-    const double surrogate = delayed ? -(g_ - options_.bond_deformation) * new_bonds : 0.0;
-    if (options_.delayed_acceptance) {
-        const double u = uniform01();
-        if (delayed && !metropolis(surrogate - T * log_hastings, T, u)) {
-            undo();
-            ++counters.screened;
-            return false;
-        }
+    double surrogate;
+    if (!passes_first_stage(new_bonds, log_hastings, T, surrogate)) {
+        undo();
+        return false;
     }
     double old_deformation = 0.0, new_deformation = 0.0;
     try {
@@ -647,10 +672,7 @@ inline bool MonteCarlo<Model>::cluster_step(double T) {
         undo();
         throw;
     }
-    const double delta = -g_ * new_bonds + (new_deformation - old_deformation);
-    const double u = uniform01();
-    const bool accept = delayed ? metropolis(delta - surrogate, T, u) : metropolis(delta - T * log_hastings, T, u);
-    if (!accept) {
+    if (!passes_second_stage(-g_ * new_bonds + (new_deformation - old_deformation), surrogate, log_hastings, T)) {
         undo();
         return false;
     }
@@ -693,14 +715,6 @@ inline bool MonteCarlo<Model>::particle_step(double T) {
     occupant_[b] = p;
     particles_[p] = b;
     const int gained = occupied_neighbours(b);  // bonds at b (a is now empty)
-    // Delayed acceptance, first stage: the surrogate energy, without relaxation. Uniform
-    // deviates are drawn whatever the energy change, so that roundoff in an energy can never
-    // shift the random sequence. At T = 0 there is no distribution to keep, only a descent:
-    // every move that lowers the energy is taken, which the two stages would refuse whenever the
-    // surrogate overstates a gain (a bound pair of triangles costs far less than e_b per bond,
-    // so below the gas threshold pairs would never break).
-    const bool delayed = options_.delayed_acceptance && T > 0;
-    const double surrogate = delayed ? -(g_ - options_.bond_deformation) * (gained - lost) : 0.0;
     // Bonded moves: the log ratio of the reverse to the forward proposal probability (gained =
     // occupied neighbours of b without the mover, lost = those of a), in the first stage.
     double log_hastings = 0.0;
@@ -710,13 +724,10 @@ inline bool MonteCarlo<Model>::particle_step(double T) {
         const double forward = uniform + bonded * gained, reverse = uniform + bonded * lost;
         log_hastings = std::log(reverse / forward);  // reverse > 0: w < 1
     }
-    if (options_.delayed_acceptance) {
-        const double u = uniform01();
-        if (delayed && !metropolis(surrogate - T * log_hastings, T, u)) {
-            undo();
-            ++counters.screened;
-            return false;
-        }
+    double surrogate;
+    if (!passes_first_stage(gained - lost, log_hastings, T, surrogate)) {
+        undo();
+        return false;
     }
     double old_deformation = 0.0, new_deformation = 0.0;
     try {
@@ -734,10 +745,7 @@ inline bool MonteCarlo<Model>::particle_step(double T) {
         undo();
         throw;
     }
-    // Metropolis-Hastings on dE (or, second stage, on dE - dE_s, the proposal ratio having been
-    // taken in the first).
-    const double delta = -g_ * (gained - lost) + (new_deformation - old_deformation) - surrogate;
-    if (!metropolis(delta - (delayed ? 0.0 : T * log_hastings), T, uniform01())) {
+    if (!passes_second_stage(-g_ * (gained - lost) + (new_deformation - old_deformation), surrogate, log_hastings, T)) {
         undo();
         return false;
     }
