@@ -30,6 +30,7 @@ inline pybind11::dict counters_dict(const MonteCarloCounters& c) {
     d["unconverged"] = c.relax.unconverged;
     d["factorizations"] = c.relax.factorizations;
     d["warm_starts"] = c.relax.warm_starts;
+    d["warm_restarts"] = c.relax.warm_restarts;
     return d;
 }
 
@@ -186,11 +187,14 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                 c.relax.minimisations = get("minimisations"), c.relax.evaluations = get("evaluations");
                 c.relax.fallbacks = get("fallbacks"), c.relax.unconverged = get("unconverged");
                 c.relax.factorizations = get("factorizations"), c.relax.warm_starts = get("warm_starts");
+                c.relax.warm_restarts = get("warm_restarts");
             },
             "attempted, accepted, screened (rejected by the surrogate), cluster_attempted, cluster_accepted (cluster "
             "translations, counted in attempted/accepted too), cluster_rebonded (accepted translations that made or "
             "broke bonds), cache_hits, cache_misses, cache_clears, minimisations, evaluations (energy+gradient "
-            "evaluations, 1 per linear solve), fallbacks (linear solve refused, done by L-BFGS), unconverged.")
+            "evaluations, 1 per linear solve), fallbacks (linear solve refused, done by L-BFGS), unconverged, "
+            "factorizations, warm_starts (Newton from the parents' relaxed state), warm_restarts (of those, "
+            "redone from the linear solution).")
         .def_property_readonly("cache_size", &MC::cache_size)
         .def("clear_cache", &MC::clear_cache);
     // The factory: pybind11 picks the class of the model passed.

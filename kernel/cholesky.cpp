@@ -3,7 +3,7 @@
 #include <cholmod.h>
 
 #include <algorithm>
-#include <array>
+#include <utility>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -78,23 +78,33 @@ CholeskyAnalysis::CholeskyAnalysis(int n, const std::vector<int>& column_start, 
     perm_.assign(perm, perm + n);
     std::vector<int> pinv(n);
     for (int k = 0; k < n; ++k) pinv[perm[k]] = k;
-    std::vector<std::array<int, 3>> entries;  // (column, row, value index)
-    entries.reserve(nnz);
+    // Columns, and rows within each column, in increasing order: two stable counting sorts (by
+    // row, then by column), linear in nnz where a comparison sort was a tenth of a Monte Carlo
+    // run's time (measured), one analysis per new cluster.
+    std::vector<int> by_row_start(n + 1, 0), by_row(nnz);
+    auto upper = [&](int p, int j) {  // (column, row) of entry p of column j, permuted
+        const int a = pinv[row[p]], b = pinv[j];
+        return std::pair<int, int>{std::max(a, b), std::min(a, b)};
+    };
+    std::vector<int> column_of(nnz);
     for (int j = 0; j < n; ++j)
         for (int p = column_start[j]; p < column_start[j + 1]; ++p) {
-            const int a = pinv[row[p]], b = pinv[j];
-            entries.push_back({std::max(a, b), std::min(a, b), p});
+            column_of[p] = j;
+            ++by_row_start[upper(p, j).second + 1];
         }
-    std::sort(entries.begin(), entries.end());
+    for (int i = 0; i < n; ++i) by_row_start[i + 1] += by_row_start[i];
+    for (int p = 0; p < static_cast<int>(nnz); ++p) by_row[by_row_start[upper(p, column_of[p]).second]++] = p;
     ap_.assign(n + 1, 0);
+    for (int p = 0; p < static_cast<int>(nnz); ++p) ++ap_[upper(p, column_of[p]).first + 1];
+    for (int j = 0; j < n; ++j) ap_[j + 1] += ap_[j];
     ai_.resize(nnz);
     value_of_.resize(nnz);
-    for (size_t k = 0; k < nnz; ++k) {
-        ++ap_[entries[k][0] + 1];
-        ai_[k] = entries[k][1];
-        value_of_[k] = entries[k][2];
+    std::vector<int> next(ap_.begin(), ap_.end() - 1);
+    for (const int p : by_row) {
+        const auto [c, r] = upper(p, column_of[p]);
+        ai_[next[c]] = r;
+        value_of_[next[c]++] = p;
     }
-    for (int j = 0; j < n; ++j) ap_[j + 1] += ap_[j];
     // Elimination tree and column counts of L (ldl_symbolic).
     parent_.assign(n, -1);
     std::vector<int> flag(n), lnz(n, 0);

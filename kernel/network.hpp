@@ -395,24 +395,29 @@ struct Network {
                     if (i >= 0 && j >= 0 && i <= j) visit(a, b, i, j);
                 }
         };
-        std::vector<std::vector<int>> columns(pat.n_free);
-        for (int p = 0; p < np; ++p) for_each_entry(p, [&](int, int, int i, int j) { columns[j].push_back(i); });
-        pat.column_start.assign(pat.n_free + 1, 0);
-        for (int j = 0; j < pat.n_free; ++j) {
-            auto& col = columns[j];
-            std::sort(col.begin(), col.end());
-            col.erase(std::unique(col.begin(), col.end()), col.end());
-            pat.column_start[j + 1] = pat.column_start[j] + static_cast<int>(col.size());
-        }
-        pat.row.reserve(pat.column_start.back());
-        for (const auto& col : columns) pat.row.insert(pat.row.end(), col.begin(), col.end());
-        pat.slot.assign(static_cast<size_t>(np) * L * L, -1);
+        // Every visit (row, local entry) in its column: counted, then placed (one allocation, not
+        // one per column; the pattern is made once per Monte Carlo cluster), then each column
+        // sorted by row, its duplicates (entries shared by neighbouring particles) merged, and
+        // each visit's slot read off as the column is written.
+        std::vector<int> visit_start(pat.n_free + 1, 0);
+        for (int p = 0; p < np; ++p) for_each_entry(p, [&](int, int, int, int j) { ++visit_start[j + 1]; });
+        for (int j = 0; j < pat.n_free; ++j) visit_start[j + 1] += visit_start[j];
+        std::vector<std::pair<int, int>> visits(visit_start.back());
+        std::vector<int> next(visit_start.begin(), visit_start.end() - 1);
         for (int p = 0; p < np; ++p)
-            for_each_entry(p, [&](int a, int b, int i, int j) {
-                const auto first = pat.row.begin() + pat.column_start[j], last = pat.row.begin() + pat.column_start[j + 1];
-                pat.slot[(static_cast<size_t>(p) * L + a) * L + b] =
-                    static_cast<int>(std::lower_bound(first, last, i) - pat.row.begin());
-            });
+            for_each_entry(p, [&](int a, int b, int i, int j) { visits[next[j]++] = {i, (p * L + a) * L + b}; });
+        pat.slot.assign(static_cast<size_t>(np) * L * L, -1);
+        pat.column_start.assign(pat.n_free + 1, 0);
+        pat.row.reserve(visits.size());
+        for (int j = 0; j < pat.n_free; ++j) {
+            const auto first = visits.begin() + visit_start[j], last = visits.begin() + visit_start[j + 1];
+            std::sort(first, last);
+            for (auto v = first; v != last; ++v) {
+                if (v == first || v->first != (v - 1)->first) pat.row.push_back(v->first);
+                pat.slot[v->second] = static_cast<int>(pat.row.size()) - 1;
+            }
+            pat.column_start[j + 1] = static_cast<int>(pat.row.size());
+        }
         return pat;
     }
 
