@@ -35,8 +35,13 @@ minimisation, time per minimisation, the time extrapolated to 10^4 sweeps (linea
 10^4-sweep run coarsens further and relaxes larger clusters, so this is a lower bound), the
 ratio, and the final energies of the two paths.
 
+``--goals``: the issue's speed targets with the workflow's moves (cluster_moves 0.05, cluster_link
+0.9): sparse paper-size runs of ``--sweeps`` sweeps at nu = 0.9 and 0.4 over Gamma from 0.1 to 1.3
+against 30 s, the dense run of ``--exact-sweeps`` sweeps extrapolated to 10^4 against 2 minutes.
+
 Usage: ``python benchmarks/bench_montecarlo.py [--sweeps 10000] [--quick]``,
-``python benchmarks/bench_montecarlo.py --exact [--exact-sweeps 500] [--repeats 2]``
+``python benchmarks/bench_montecarlo.py --exact [--exact-sweeps 500] [--repeats 2]``,
+``python benchmarks/bench_montecarlo.py --goals [--sweeps 10000] [--exact-sweeps 500]``
 """
 from __future__ import annotations
 
@@ -135,6 +140,41 @@ def exact_energies(sweeps, repeats, seed):
               f"sites: {sorted(map(tuple, w.sites.tolist())) == sorted(map(tuple, cold.sites.tolist()))}")
 
 
+GOAL_GAMMAS = (0.1, 0.2, 0.35, 0.5, 0.8, 1.3)
+WORKFLOW_MOVES = dict(cluster_moves=0.05, cluster_link=0.9)  # config/default.yaml's montecarlo
+
+
+def speed_goals(sweeps, dense_sweeps, seed):
+    """The speed targets of the Monte Carlo issue, exact (Newton) energies at tol 1e-3 with the
+    workflow's moves: a sparse paper-size run (200 in 60 x 60, 10^4 sweeps) under 30 s, at
+    nu = 0.9 and 0.4 over the diagram's range of Gamma; a dense one (300 in 30 x 30, 10^4
+    sweeps) under 2 minutes, extrapolated from ``dense_sweeps`` (a lower bound, as above)."""
+    print(f"{_common.machine_line()}\n{_common.source_line()}")
+    print(f"Speed goals, exact (Newton) energies at tol 1e-3, moves {WORKFLOW_MOVES}, seed {seed}, CPU seconds")
+    for nu in (0.9, 0.4):
+        particle = Hexagon.from_continuum(ell=ELL, nu=nu, eps=EPS)
+        for Gamma in GOAL_GAMMAS:
+            g = float(continuum.particle_parameters(ELL, nu, Gamma, eps=EPS).g)
+            cpu = time.process_time()
+            r = pyfrustrate.anneal(particle, g, box=BOX, n=N, steps=N * sweeps, seed=seed, method="newton",
+                                   tol=1e-3, progress=False, **WORKFLOW_MOVES)
+            cpu = time.process_time() - cpu
+            print(f"  sparse nu = {nu}, Gamma = {Gamma:4}: {cpu:6.1f} s for {sweeps} sweeps, "
+                  f"{cpu * 10_000 / sweeps / 30:.2f} x the 30 s goal; {r.counters['minimisations']:,} relaxations")
+    n, box, nu = EXACT_RUNS["dense"]
+    particle = Hexagon.from_continuum(ell=ELL, nu=nu, eps=EPS)
+    g = float(continuum.particle_parameters(ELL, nu, GAMMA, eps=EPS).g)
+    cpu = time.process_time()
+    r = pyfrustrate.anneal(particle, g, box=box, n=n, steps=n * dense_sweeps, seed=seed, method="newton", tol=1e-3,
+                           progress=False, **WORKFLOW_MOVES)
+    cpu = time.process_time() - cpu
+    c = r.counters
+    print(f"  dense nu = {nu}, Gamma = {GAMMA}: {cpu:.1f} s for {dense_sweeps} sweeps, {cpu * 10_000 / dense_sweeps:.0f} s "
+          f"per 10^4 (lower bound), {cpu * 10_000 / dense_sweeps / 120:.1f} x the 2 min goal; "
+          f"{c['minimisations']:,} relaxations, {c['factorizations'] / max(1, c['minimisations']):.2f} factorisations "
+          f"each, {1e3 * cpu / max(1, c['minimisations']):.2f} ms each; warm restarts {c['warm_restarts']}")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sweeps", type=int, default=10_000, help="sweeps (n moves each) of the paper-size run")
@@ -146,7 +186,12 @@ def main(argv=None):
                     help="only the exact-energy (Newton) runs, dense and sparse: warm against cold starts")
     ap.add_argument("--exact-sweeps", type=int, default=500, help="sweeps of each --exact annealing")
     ap.add_argument("--repeats", type=int, default=2, help="runs of each path with --exact")
+    ap.add_argument("--goals", action="store_true",
+                    help="only the issue's speed targets: sparse runs over Gamma (10^4 sweeps), the dense run extrapolated")
     args = ap.parse_args(argv)
+    if args.goals:
+        speed_goals(200 if args.quick else args.sweeps, 30 if args.quick else args.exact_sweeps, args.seed)
+        return
     if args.exact:
         exact_energies(100 if args.quick else args.exact_sweeps, 1 if args.quick else args.repeats, args.seed)
         return

@@ -30,6 +30,25 @@ def draw_elongated_bands(ax, mc):
                     solid_capstyle="butt", zorder=5)
 
 
+def hollow_markers_explained(mc, n):
+    """Caption lines: what the runs that ended above the criterion got wrong, read from their final
+    clusters: the structure (one aggregate, several, ...) or, within the right structure, the shape."""
+    stuck = mc["gap_ground"] > EQUILIBRATED_GAP
+    if not stuck.any():
+        return ["Every run ended within the criterion."]
+    right = stuck & (mc["structure"] == mc["ground_family"])
+    unrounded = right & (mc["kind"] == "fiber") & (mc["single_kind"] != "fiber")
+    rest = right & ~unrounded
+    gaps = mc["gap_ground"][rest]
+    above = f"{gaps.min():.1f}-{gaps.max():.1f} above" if rest.any() else "above"
+    return [
+        f"Hollow markers ({int(stuck.sum())}): {int(right.sum())} end in their ground state's structure but not its shape: "
+        f"{int(unrounded.sum())} elongated where the best aggregate of {n} is compact",
+        f"(pieces merged, not yet rounded), {int(rest.sum())} of the best aggregate's kind but {above} (outline not yet "
+        f"relaxed); {int((stuck & ~right).sum())} in another structure.",
+    ]
+
+
 def main(mc_path, diagram_path, continuum_path, outputs):
     mc = load_npz(mc_path)
     n = int(mc["n"][0])
@@ -45,7 +64,7 @@ def main(mc_path, diagram_path, continuum_path, outputs):
         ax.plot(G, nu, MARKERS[str(kind)], ms=8, mfc="w" if stuck else color, mec=color if stuck else "k",
                 mew=1.4 if stuck else 0.8, zorder=6)
         ax.annotate(f"{size}", (G, nu), xytext=(5, -9), textcoords="offset points", fontsize=5.5, zorder=7)
-    handles = [Line2D([], [], marker=m, ls="", mfc=plotting.PHASE_COLORS.get(k, "0.5"), mec="k", label=k.replace("_", " "))
+    handles = [Line2D([], [], marker=m, ls="", mfc=plotting.PHASE_COLORS.get(k, "0.5"), mec="k", label=plotting.PHASE_LABELS.get(k, k))
                for k, m in MARKERS.items()]
     handles.append(Line2D([], [], marker="o", ls="", mfc="w", mec="0.3", mew=1.4,
                           label=f"ended > {EQUILIBRATED_GAP:g} bulk\nparticle energies above\nthe box's ground state"))
@@ -65,7 +84,8 @@ def main(mc_path, diagram_path, continuum_path, outputs):
         "compare the runs with the band (the best single aggregate of the same particles), not only with the "
         "infinite-system diagram.",
     ]
-    fig.text(0.07, -0.12, "\n".join(lines), fontsize=6)
+    lines += hollow_markers_explained(mc, n)
+    fig.text(0.07, -0.14, "\n".join(lines), fontsize=6)
     plotting.save(fig, outputs)
 
 

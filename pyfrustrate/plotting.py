@@ -18,6 +18,9 @@ from .provenance import describe  # noqa: E402
 # Fig. 3 colour code: black bulk with holes, red disk, blue fibre, purple bulk.
 PHASE_COLORS = {"bulk_with_holes": "#1a1a1a", "disk": "#d3002d", "fiber": "#007e94", "bulk": "#7b3294",
                 "single": "#9e9e9e", "gas": "#b0b0b0"}
+# How a phase (the code's name) is written in legends.
+PHASE_LABELS = {"bulk_with_holes": "bulk with holes", "disk": "disk", "fiber": "fibre", "bulk": "bulk",
+                "gas": "single particles"}
 YELLOW, RED_CORNER, BLUE_SPRING = "#e6b800", "#d3002d", "#3b78c2"
 # Colour of each corner slot (even slots red, odd yellow) and of each of the nine distances of
 # a random particle (random_particles.DISTANCE_PAIRS: yellow sides, red sides, hexagon sides).
@@ -244,10 +247,8 @@ def draw_ansatz_diagram(fig, ax, diagram: dict, continuum: dict):
     ax.set_ylim(0, 1)
     ax.set_xlabel(r"line tension $\Gamma$")
     ax.set_ylabel(r"Poisson ratio $\nu$")
-    shown: tuple[tuple[str, str], ...] = (("bulk_with_holes", "bulk with holes"), ("disk", "disk"), ("fiber", "fibre"), ("bulk", "bulk"))
-    if np.any(phase == "gas"):
-        shown += (("gas", "single particles"),)
-    handles: list[Artist] = [Patch(color=PHASE_COLORS[p], label=label) for p, label in shown]
+    shown = ["bulk_with_holes", "disk", "fiber", "bulk"] + (["gas"] if np.any(phase == "gas") else [])
+    handles: list[Artist] = [Patch(color=PHASE_COLORS[p], label=PHASE_LABELS[p]) for p in shown]
     handles.append(plt.Line2D([], [], color="k", ls="--", lw=0.8, label=r"continuum ($\ell\to\infty$)"))
     ax.legend(handles=handles, loc="lower center", bbox_to_anchor=(0.5, 1.01), ncol=3, fontsize=7, frameon=False)
     return meshes
