@@ -30,6 +30,18 @@ def import_pyfrustrate():
     return pyfrustrate
 
 
+def add_box_arguments(ap, sweeps=4000):
+    """The Monte Carlo benchmarks' system: n particles in a box x box cell at (ell, nu, Gamma, eps),
+    annealed for ``sweeps`` sweeps (defaults: the equilibration benchmark case of issue 15)."""
+    ap.add_argument("--n", type=int, default=400)
+    ap.add_argument("--box", type=int, default=85)
+    ap.add_argument("--nu", type=float, default=0.9)
+    ap.add_argument("--Gamma", type=float, default=0.3)
+    ap.add_argument("--ell", type=float, default=5.0)
+    ap.add_argument("--eps", type=float, default=0.01)
+    ap.add_argument("--sweeps", type=int, default=sweeps)
+
+
 def timed(fn, *args, **kwargs):
     """(seconds, result) of one call."""
     t0 = time.perf_counter()

@@ -24,7 +24,7 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import import_pyfrustrate, machine_line, source_line, table  # noqa: E402
+from _common import add_box_arguments, import_pyfrustrate, machine_line, source_line, table  # noqa: E402
 
 
 def _setting(text):
@@ -55,13 +55,7 @@ def _run(args, seed, moves, link, bonded):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="100 particles in 40 x 40, 1000 sweeps, one seed")
-    ap.add_argument("--n", type=int, default=400)
-    ap.add_argument("--box", type=int, default=85)
-    ap.add_argument("--nu", type=float, default=0.9)
-    ap.add_argument("--Gamma", type=float, default=0.3)
-    ap.add_argument("--ell", type=float, default=5.0)
-    ap.add_argument("--eps", type=float, default=0.01)
-    ap.add_argument("--sweeps", type=int, default=4000)
+    add_box_arguments(ap)
     ap.add_argument("--settings", type=_setting, nargs="+",
                     default=[(0.02, 1.0, 0.0), (0.02, 0.8, 0.0), (0.1, 0.8, 0.0), (0.05, 0.9, 0.5)],
                     help="cluster_moves:cluster_link[:bonded_moves] (default 0); the first is the baseline")

@@ -5,7 +5,8 @@ System (default): 400 particles in an 85 x 85 box at ell = 5, eps = 0.01, nu = 0
 where the workflow's annealing (4000 sweeps, linear schedule from T0 = g) ends about 19 bulk
 particle energies above the best single aggregate of 400 particles. For each seed:
 
-* ``anneal``            ``pyfrustrate.anneal`` with ``sweeps`` sweeps (cluster moves 0.02);
+* ``anneal``            ``pyfrustrate.anneal`` with ``sweeps`` sweeps (the workflow's moves: Newton at tol
+                        1e-3, cluster_moves 0.05, cluster_link 0.9, bonded_moves 0, or as given);
 * ``replica exchange``  ``pyfrustrate.replica_exchange`` on a geometric ladder of ``K``
                         temperatures from ``T_min`` to ``T_max`` (in units of g), ``sweeps / K``
                         rounds of one sweep per replica (the same attempted moves in all), then
@@ -17,7 +18,8 @@ time, and for replica exchange the swap acceptance and round trips. Ratios are a
 annealing run of the same seed.
 
 Usage: ``python benchmarks/bench_replica_exchange.py [--quick] [--n 400 --box 85 --nu 0.9
---Gamma 0.3 --sweeps 4000 --replicas 8 --T-min 0.05 --T-max 0.5 --seeds 1 2]``
+--Gamma 0.3 --sweeps 4000 --replicas 8 --T-min 0.05 --T-max 0.5 --cluster-moves 0.05 --cluster-link 0.9
+--bonded-moves 0 --method newton --seeds 1 2]``
 """
 from __future__ import annotations
 
@@ -27,7 +29,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import import_pyfrustrate, machine_line, source_line, table  # noqa: E402
+from _common import add_box_arguments, import_pyfrustrate, machine_line, source_line, table  # noqa: E402
 
 import numpy as np  # noqa: E402
 
@@ -35,18 +37,14 @@ import numpy as np  # noqa: E402
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="100 particles in 40 x 40, 400 sweeps")
-    ap.add_argument("--n", type=int, default=400)
-    ap.add_argument("--box", type=int, default=85)
-    ap.add_argument("--nu", type=float, default=0.9)
-    ap.add_argument("--Gamma", type=float, default=0.3)
-    ap.add_argument("--ell", type=float, default=5.0)
-    ap.add_argument("--eps", type=float, default=0.01)
-    ap.add_argument("--sweeps", type=int, default=4000)
+    add_box_arguments(ap)
     ap.add_argument("--replicas", type=int, default=8)
     ap.add_argument("--T-min", type=float, default=0.05, help="coldest temperature, in units of g")
     ap.add_argument("--T-max", type=float, default=0.5, help="hottest temperature, in units of g")
-    ap.add_argument("--cluster-moves", type=float, default=0.02)
-    ap.add_argument("--method", default="lbfgs")
+    ap.add_argument("--cluster-moves", type=float, default=0.05)
+    ap.add_argument("--cluster-link", type=float, default=0.9)
+    ap.add_argument("--bonded-moves", type=float, default=0.0)
+    ap.add_argument("--method", default="newton")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--seeds", type=int, nargs="+", default=[1])
     args = ap.parse_args(argv)
@@ -62,21 +60,22 @@ def main(argv=None):
     best = float(ansatz.finite_aggregates(particle, args.n).best_energy(g))
     ladder = geometric_temperatures(args.T_min * g, args.T_max * g, args.replicas)
     rounds = max(1, args.sweeps // args.replicas)
+    moves = dict(method=args.method, tol=1e-3, cluster_moves=args.cluster_moves, cluster_link=args.cluster_link,
+                 bonded_moves=args.bonded_moves)
     print(f"{machine_line()}\n{source_line()}")
     print(f"{args.n} particles in {args.box} x {args.box}, ell = {args.ell:g}, nu = {args.nu:g}, "
           f"Gamma = {args.Gamma:g} "
           f"(g = {g:.4g}); best single aggregate {best / e_bulk:.1f} bulk energies; {args.sweeps} sweeps per run; "
-          f"ladder {args.T_min:g}..{args.T_max:g} g, {args.replicas} replicas x {rounds} rounds")
+          f"ladder {args.T_min:g}..{args.T_max:g} g, {args.replicas} replicas x {rounds} rounds; {moves}")
     rows = []
     for seed in args.seeds:
         runs = {}
         cpu, wall = time.process_time(), time.perf_counter()
-        a = anneal(particle, g, box=args.box, n=args.n, steps=args.sweeps * args.n, seed=seed, method=args.method,
-                   cluster_moves=args.cluster_moves, progress=False)
+        a = anneal(particle, g, box=args.box, n=args.n, steps=args.sweeps * args.n, seed=seed, progress=False, **moves)
         runs["anneal"] = (a, time.process_time() - cpu, time.perf_counter() - wall, "")
         cpu, wall = time.process_time(), time.perf_counter()
-        r = replica_exchange(particle, g, ladder, box=args.box, n=args.n, rounds=rounds, seed=seed, method=args.method,
-                             cluster_moves=args.cluster_moves, threads=args.threads, progress=False)
+        r = replica_exchange(particle, g, ladder, box=args.box, n=args.n, rounds=rounds, seed=seed, threads=args.threads,
+                             progress=False, **moves)
         swaps = f"swaps {np.nanmin(r.swap_acceptance):.2f}-{np.nanmax(r.swap_acceptance):.2f}, {r.round_trips} trips"
         runs["replica exchange"] = (r, time.process_time() - cpu, time.perf_counter() - wall, swaps)
         base = runs["anneal"]
