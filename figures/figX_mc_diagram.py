@@ -41,11 +41,12 @@ def hollow_markers_explained(mc, n):
     rest = right & ~unrounded
     gaps = mc["gap_ground"][rest]
     above = f"{gaps.min():.1f}-{gaps.max():.1f} above" if rest.any() else "above"
+    other = int((stuck & ~right).sum())
     return [
         f"Hollow markers ({int(stuck.sum())}): {int(right.sum())} end in their ground state's structure but not its shape: "
         f"{int(unrounded.sum())} elongated where the best aggregate of {n} is compact",
         f"(pieces merged, not yet rounded), {int(rest.sum())} of the best aggregate's kind but {above} (outline not yet "
-        f"relaxed); {int((stuck & ~right).sum())} in another structure.",
+        f"relaxed)" + (f"; {other} in another structure." if other else "."),
     ]
 
 
