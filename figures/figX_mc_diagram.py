@@ -45,8 +45,9 @@ def hollow_markers_explained(mc, n):
     return [
         f"Hollow markers ({int(stuck.sum())}): {int(right.sum())} end in their ground state's structure but not its shape: "
         f"{int(unrounded.sum())} elongated where the best aggregate of {n} is compact",
-        f"(pieces merged, not yet rounded), {int(rest.sum())} of the best aggregate's kind but {above} (outline not yet "
-        f"relaxed)" + (f"; {other} in another structure." if other else "."),
+        "(pieces merged, not yet rounded)"
+        + (f", {int(rest.sum())} of the best aggregate's kind but {above} (outline not yet relaxed)" if rest.any() else "")
+        + (f"; {other} in another structure." if other else "."),
     ]
 
 
