@@ -37,6 +37,11 @@ def _setting(text):
     return tuple(values) + (0.0,) * (3 - len(values))
 
 
+def _label(setting):
+    """cluster_moves:cluster_link:bonded_moves, as given on the command line."""
+    return ":".join(f"{x:g}" for x in setting)
+
+
 def _run(args, seed, moves, link, bonded):
     """One annealing run: (energy, largest cluster, structure, CPU seconds, counters)."""
     import_pyfrustrate()
@@ -88,12 +93,12 @@ def main(argv=None):
         base_energy, _, _, base_cpu, _ = results[(seed, *args.settings[0])]
         base_gap = (base_energy - ground) / e_bulk
         gaps.setdefault(tuple(setting), []).append(gap)
-        rows.append((seed, ":".join(f"{x:g}" for x in setting), f"{gap:.1f}", f"{gap / base_gap:.2f}" if base_gap > 0 else "-",
+        rows.append((seed, _label(setting), f"{gap:.1f}", f"{gap / base_gap:.2f}" if base_gap > 0 else "-",
                      found, largest, counters["cluster_rebonded"], f"{cpu:.0f} s", f"{cpu / base_cpu:.2f}"))
     print(table(rows, ["seed", "moves:link:bonded", "gap (e_b)", "gap / baseline", "structure", "largest", "merges+splits",
                        "CPU", "CPU / baseline"]))
     print()
-    print(table([(":".join(f"{x:g}" for x in setting), f"{sum(v) / len(v):.1f}", f"{sum(x < 5 for x in v)}/{len(v)}")
+    print(table([(_label(setting), f"{sum(v) / len(v):.1f}", f"{sum(x < 5 for x in v)}/{len(v)}")
                  for setting, v in gaps.items()], ["moves:link:bonded", "mean gap (e_b)", "within 5 e_b"]))
 
 

@@ -105,6 +105,14 @@ def rate(particle, g, sites, T, mode, budget, min_moves, max_moves):
 EXACT_RUNS = {"dense": (300, 30, 0.4), "sparse": (200, 60, 0.9)}
 
 
+def exact_annealing(particle, g, box, n, sweeps, seed, **moves):
+    """(CPU seconds, result) of one annealing with exact (Newton) cluster energies at tol 1e-3."""
+    cpu = time.process_time()
+    r = pyfrustrate.anneal(particle, g, box=box, n=n, steps=n * sweeps, seed=seed, method="newton", tol=1e-3,
+                           progress=False, **moves)
+    return time.process_time() - cpu, r
+
+
 def exact_energies(sweeps, repeats, seed):
     """Warm (parent) against cold starts of the Newton cluster energies, A B A B."""
     print(f"{_common.machine_line()}\n{_common.source_line()}")
@@ -116,10 +124,8 @@ def exact_energies(sweeps, repeats, seed):
         runs = {True: [], False: []}
         for _ in range(repeats):
             for warm in (True, False):
-                cpu = time.process_time()
-                r = pyfrustrate.anneal(particle, g, box=box, n=n, steps=n * sweeps, seed=seed, method="newton",
-                                       tol=1e-3, progress=False, cluster_moves=0.02, warm_start=warm)
-                runs[warm].append((time.process_time() - cpu, r))
+                runs[warm].append(exact_annealing(particle, g, box, n, sweeps, seed, cluster_moves=0.02,
+                                                  warm_start=warm))
         print(f"\n=== {kind}: {n} particles in {box} x {box}, nu = {nu}, g = {g:.5g}")
         print(f"  {'start':6s} {'CPU s min/med/max':>20s} {'10^4 sweeps':>11s} {'minimis.':>9s} {'fact./min':>9s} "
               f"{'eval./min':>9s} {'ms/min':>7s} {'warm':>6s}  final energy")
@@ -141,7 +147,7 @@ def exact_energies(sweeps, repeats, seed):
 
 
 GOAL_GAMMAS = (0.1, 0.2, 0.35, 0.5, 0.8, 1.3)
-WORKFLOW_MOVES = dict(cluster_moves=0.05, cluster_link=0.9)  # config/default.yaml's montecarlo
+WORKFLOW_MOVES = dict(cluster_moves=0.05, cluster_link=0.9)  # config/config.yaml's montecarlo
 
 
 def speed_goals(sweeps, dense_sweeps, seed):
@@ -155,19 +161,13 @@ def speed_goals(sweeps, dense_sweeps, seed):
         particle = Hexagon.from_continuum(ell=ELL, nu=nu, eps=EPS)
         for Gamma in GOAL_GAMMAS:
             g = float(continuum.particle_parameters(ELL, nu, Gamma, eps=EPS).g)
-            cpu = time.process_time()
-            r = pyfrustrate.anneal(particle, g, box=BOX, n=N, steps=N * sweeps, seed=seed, method="newton",
-                                   tol=1e-3, progress=False, **WORKFLOW_MOVES)
-            cpu = time.process_time() - cpu
+            cpu, r = exact_annealing(particle, g, BOX, N, sweeps, seed, **WORKFLOW_MOVES)
             print(f"  sparse nu = {nu}, Gamma = {Gamma:4}: {cpu:6.1f} s for {sweeps} sweeps, "
                   f"{cpu * 10_000 / sweeps / 30:.2f} x the 30 s goal; {r.counters['minimisations']:,} relaxations")
     n, box, nu = EXACT_RUNS["dense"]
     particle = Hexagon.from_continuum(ell=ELL, nu=nu, eps=EPS)
     g = float(continuum.particle_parameters(ELL, nu, GAMMA, eps=EPS).g)
-    cpu = time.process_time()
-    r = pyfrustrate.anneal(particle, g, box=box, n=n, steps=n * dense_sweeps, seed=seed, method="newton", tol=1e-3,
-                           progress=False, **WORKFLOW_MOVES)
-    cpu = time.process_time() - cpu
+    cpu, r = exact_annealing(particle, g, box, n, dense_sweeps, seed, **WORKFLOW_MOVES)
     c = r.counters
     print(f"  dense nu = {nu}, Gamma = {GAMMA}: {cpu:.1f} s for {dense_sweeps} sweeps, {cpu * 10_000 / dense_sweeps:.0f} s "
           f"per 10^4 (lower bound), {cpu * 10_000 / dense_sweeps / 120:.1f} x the 2 min goal; "

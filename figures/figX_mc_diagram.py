@@ -40,13 +40,13 @@ def hollow_markers_explained(mc, n):
     unrounded = right & (mc["kind"] == "fiber") & (mc["single_kind"] != "fiber")
     rest = right & ~unrounded
     gaps = mc["gap_ground"][rest]
-    above = f"{gaps.min():.1f}-{gaps.max():.1f} above" if rest.any() else "above"
     other = int((stuck & ~right).sum())
     return [
         f"Hollow markers ({int(stuck.sum())}): {int(right.sum())} end in their ground state's structure but not its shape: "
         f"{int(unrounded.sum())} elongated where the best aggregate of {n} is compact",
         "(pieces merged, not yet rounded)"
-        + (f", {int(rest.sum())} of the best aggregate's kind but {above} (outline not yet relaxed)" if rest.any() else "")
+        + (f", {int(rest.sum())} of the best aggregate's kind but {gaps.min():.1f}-{gaps.max():.1f} above (outline not yet "
+           "relaxed)" if rest.any() else "")
         + (f"; {other} in another structure." if other else "."),
     ]
 

@@ -81,27 +81,24 @@ CholeskyAnalysis::CholeskyAnalysis(int n, const std::vector<int>& column_start, 
     // Columns, and rows within each column, in increasing order: two stable counting sorts (by
     // row, then by column), linear in nnz where a comparison sort was a tenth of a Monte Carlo
     // run's time (measured), one analysis per new cluster.
+    std::vector<std::pair<int, int>> permuted(nnz);  // (column, row) of each entry in P A P^T's upper triangle
     std::vector<int> by_row_start(n + 1, 0), by_row(nnz);
-    auto upper = [&](int p, int j) {  // (column, row) of entry p of column j, permuted
-        const int a = pinv[row[p]], b = pinv[j];
-        return std::pair<int, int>{std::max(a, b), std::min(a, b)};
-    };
-    std::vector<int> column_of(nnz);
+    ap_.assign(n + 1, 0);
     for (int j = 0; j < n; ++j)
         for (int p = column_start[j]; p < column_start[j + 1]; ++p) {
-            column_of[p] = j;
-            ++by_row_start[upper(p, j).second + 1];
+            const int a = pinv[row[p]], b = pinv[j];
+            permuted[p] = {std::max(a, b), std::min(a, b)};
+            ++by_row_start[permuted[p].second + 1];
+            ++ap_[permuted[p].first + 1];
         }
     for (int i = 0; i < n; ++i) by_row_start[i + 1] += by_row_start[i];
-    for (int p = 0; p < static_cast<int>(nnz); ++p) by_row[by_row_start[upper(p, column_of[p]).second]++] = p;
-    ap_.assign(n + 1, 0);
-    for (int p = 0; p < static_cast<int>(nnz); ++p) ++ap_[upper(p, column_of[p]).first + 1];
     for (int j = 0; j < n; ++j) ap_[j + 1] += ap_[j];
+    for (int p = 0; p < static_cast<int>(nnz); ++p) by_row[by_row_start[permuted[p].second]++] = p;
     ai_.resize(nnz);
     value_of_.resize(nnz);
     std::vector<int> next(ap_.begin(), ap_.end() - 1);
     for (const int p : by_row) {
-        const auto [c, r] = upper(p, column_of[p]);
+        const auto [c, r] = permuted[p];
         ai_[next[c]] = r;
         value_of_[next[c]++] = p;
     }

@@ -473,9 +473,7 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     max_iter = _integer("max_iter", max_iter, 1)
     cluster_moves = _probability("cluster_moves", cluster_moves)
     cluster_link = _probability("cluster_link", cluster_link)
-    bonded_moves = _probability("bonded_moves", bonded_moves)
-    if bonded_moves == 1.0:
-        raise ValueError("bonded_moves must be below 1: at 1 a particle could never leave an aggregate")
+    bonded_moves = _probability("bonded_moves", bonded_moves)  # the kernel refuses 1 (not ergodic)
     temps, block_steps, stage_of_block, n_stages = _plan(steps, schedule, T0, T_end, record_every)
     total_steps = int(block_steps.sum())
     cum_steps = np.cumsum(block_steps)
