@@ -2,8 +2,9 @@
 does the Monte Carlo reach the finite-size ground state?
 
 System (default): 400 particles in an 85 x 85 box at ell = 5, eps = 0.01, nu = 0.9, Gamma = 0.3,
-where the workflow's annealing (4000 sweeps, linear schedule from T0 = g) ends about 19 bulk
-particle energies above the best single aggregate of 400 particles. For each seed:
+where the workflow's annealing (4000 sweeps, linear schedule from T0 = g, linked cluster moves)
+ends tens of bulk particle energies above the best single aggregate of 400 particles (+28.0 at
+seed 1, measured with bench_equilibration.py; README). For each seed:
 
 * ``anneal``            ``pyfrustrate.anneal`` with ``sweeps`` sweeps (the workflow's moves: Newton at tol
                         1e-3, cluster_moves 0.05, cluster_link 0.9, bonded_moves 0, or as given);

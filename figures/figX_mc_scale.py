@@ -7,7 +7,8 @@ predicted ground state (ground_states.box_candidates: single aggregates, a fibre
 box, several aggregates, the gas) in bulk particle energies e_b. Filled: the run ends in that
 ground state's structure (ground_states.structure); hollow: in another. The grey band is the
 equilibration criterion (within EQUILIBRATED_GAP e_b). Bottom row: the final state of the first
-seed at every point of the scans, each centred on its largest cluster, all on one scale.
+seed at every distinct point of the scans (a point two scans share is drawn once), each centred
+on its largest cluster, all on one scale.
 """
 import numpy as np
 
@@ -66,14 +67,21 @@ def main(scale_path, run_paths, points, outputs):
         within = int((scale["gap_ground"][in_scan] <= EQUILIBRATED_GAP).sum())
         ax.set_title(f"{title}, {fixed}: {within}/{len(in_scan)} within {EQUILIBRATED_GAP:g}", fontsize=7)
         plotting.panel_label(ax, "abc"[i])
-    # Snapshots of the first seed, scan by scan, each centred on its largest cluster, all on one
-    # scale (the largest extent of any of them).
-    shown = [(scan, nu, G, runs.get((round(float(nu), 9), round(float(G), 9), seeds[0]))) for scan, nu, G in points]
+        if i == 0 and len(seeds) > 1:
+            for s, seed in enumerate(seeds):
+                ax.plot([], [], SEED_MARKERS[s % len(SEED_MARKERS)], ms=4, mfc="w", mec="0.3", label=f"seed {seed}")
+            ax.legend(loc="upper left", fontsize=5.5, frameon=False, handletextpad=0.2)
+    # Snapshots of the first seed at each distinct point (the scans share some), each centred on
+    # its largest cluster, all on one scale (the largest extent of any of them).
+    scans_at = {}
+    for scan, nu, G in points:
+        scans_at.setdefault((round(float(nu), 9), round(float(G), 9)), []).append(scan)
+    shown = [(scans, nu, G, runs.get((nu, G, seeds[0]))) for (nu, G), scans in scans_at.items()]
     shown = [item for item in shown if item[3] is not None]
     extents = [largest_cluster_extent(run["sites"], box) for *_, run in shown]
     half = max(0.5 * max(x1 - x0, y1 - y0) for (x0, y0), (x1, y1) in extents) + 2.0
     width = 0.92 / max(len(shown), 1)
-    for j, ((scan, nu, G, run), ((x0, y0), (x1, y1))) in enumerate(zip(shown, extents)):
+    for j, ((scans, nu, G, run), ((x0, y0), (x1, y1))) in enumerate(zip(shown, extents)):
         ax = fig.add_axes([0.04 + j * width, 0.07, width * 0.96, 0.36])
         draw_snapshot(run["sites"], box, ax=ax)
         ax.set_xlim(0.5 * (x0 + x1) - half, 0.5 * (x0 + x1) + half)
@@ -81,15 +89,15 @@ def main(scale_path, run_paths, points, outputs):
         ax.set_xticks([])
         ax.set_yticks([])
         k = rows_of(scale, nu, G)[0]
-        ax.set_title(f"{SCANS[scan][2]}\n$\\nu$={nu:g}, $\\Gamma$={G:g}\n{float(scale['gap_ground'][k]):+.1f} $e_b$",
-                     fontsize=5.5)
+        ax.set_title(f"{' + '.join(SCANS[scan][2] for scan in scans)}\n$\\nu$={nu:g}, $\\Gamma$={G:g}\n"
+                     f"{float(scale['gap_ground'][k]):+.1f} $e_b$", fontsize=5.5)
     total = len(scale["gap_ground"])
     within = int((scale["gap_ground"] <= EQUILIBRATED_GAP).sum())
     same = int((scale["structure"] == scale["ground_family"]).sum())
     fig.text(0.04, 0.005,
              f"{n} particles in {box} x {box}, seeds {', '.join(map(str, seeds))}: {within} of {total} runs end within "
              f"{EQUILIBRATED_GAP:g} bulk particle energies of their box's predicted ground state, {same} in its structure "
-             "(filled markers). Grey labels: the ground state's family.", fontsize=6)
+             f"(filled markers). Grey labels: the ground state's family. Snapshots: seed {seeds[0]}.", fontsize=6)
     plotting.save(fig, outputs)
 
 
