@@ -134,6 +134,8 @@ def aggregate_counts(n: int, max_aggregates: int | None = None) -> list[int]:
     ``m`` from 2 to ``max_aggregates`` if given, else every ``m`` to 16 and then counts 1.25x apart
     up to ``n // 7`` (aggregates of at least seven particles, one ring around a particle)."""
     if max_aggregates is not None:
+        if isinstance(max_aggregates, bool) or int(max_aggregates) != max_aggregates or max_aggregates < 1:
+            raise ValueError(f"max_aggregates must be a positive integer or None, got {max_aggregates!r}")
         return list(range(2, int(max_aggregates) + 1))
     counts, m = list(range(2, min(16, n // 2) + 1)), 16.0
     while round(m * 1.25) <= n // 7:
@@ -157,9 +159,7 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
     n, box = int(n), int(box)
     if n >= box * box:
         raise ValueError(f"n must be smaller than the box's {box * box} sites, got {n}")
-    if max_aggregates is not None and (isinstance(max_aggregates, bool) or int(max_aggregates) != max_aggregates
-                                       or max_aggregates < 1):
-        raise ValueError(f"max_aggregates must be a positive integer or None, got {max_aggregates!r}")
+    counts = aggregate_counts(n, max_aggregates)  # checks max_aggregates before any relaxation
     rows = []  # (family, deformation, bonds, sites, converged)
 
     single = ansatz.finite_aggregates(particle, n, method=method, tol=tol)
@@ -178,7 +178,7 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
             r = relax(particle, fibre, method=method, tol=tol, **kwargs)
             rows.append(("wrapping_fiber", r.energy, r.n_bonds, sites, r.converged))
 
-    for m in aggregate_counts(n, max_aggregates):
+    for m in counts:
         q = n // m
         if q < 2:
             break

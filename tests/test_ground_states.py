@@ -84,8 +84,10 @@ def test_a_box_holding_many_small_best_aggregates_has_them_as_candidates():
     from pyfrustrate import ansatz
     particle = Hexagon.from_continuum(ell=3, nu=0.4, eps=0.02)
     g = 1e-4
-    per_particle = {q: float(np.min(f.deformation - g * f.bonds)) / q
-                    for q, f in ((q, ansatz.finite_aggregates(particle, q)) for q in range(2, 31))}
+    per_particle = {}
+    for q in range(2, 31):
+        shapes = ansatz.finite_aggregates(particle, q)
+        per_particle[q] = float(np.min(shapes.deformation - g * shapes.bonds)) / q
     q_best = min(per_particle, key=per_particle.get)
     assert q_best <= 10 and per_particle[q_best] < 0
     n = 6 * q_best
