@@ -15,7 +15,8 @@ rule montecarlo_run:
         box=per_box(MC, "box"),
         method=per_box(MC, "method"),
         sweeps=per_box(MC, "sweeps"),
-        **pick(MC, "ell", "eps", "tol", "cluster_moves", "cluster_link", "bonded_moves"),
+        bonded_moves=per_box(MC, "bonded_moves"),
+        **pick(MC, "ell", "eps", "tol", "cluster_moves", "cluster_link"),
     wildcard_constraints:
         kind="sparse|dense|large|sparse_supplement|dense_supplement",
         seed=r"\d+",
