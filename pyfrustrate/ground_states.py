@@ -5,8 +5,8 @@ prediction as the real ground state of the box).
 Families, each a set of real configurations of the box (their sites are returned and checked to
 fit without touching their periodic images):
 
-``single``          one aggregate of all ``n`` particles, compact to elongated
-                    (``ansatz.finite_aggregates``: ``topology.stadium_sites``);
+``single``          one aggregate of all ``n`` particles, compact to elongated, round and
+                    faceted (``ansatz.finite_aggregates``: ``topology.stadium_sites``);
 ``wrapping_fiber``  full rows along ``a1`` that wrap the box (a straight fibre periodic with the
                     box, ``n // box`` rows) plus the remaining particles as a partial row on one
                     edge; with ``n`` near ``box**2`` it is a slab;

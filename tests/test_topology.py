@@ -344,11 +344,34 @@ def test_stadium_of_a_hexagonal_number_is_the_hexagon(R):
     assert set(map(tuple, T.stadium_sites(n).tolist())) == set(map(tuple, T.hexagon_sites(R).tolist()))
 
 
+@pytest.mark.parametrize("R", [0, 1, 4, 9])
+def test_faceted_stadium_of_a_hexagonal_number_is_the_hexagon(R):
+    """In the lattice's own distance every hexagonal number is a full hexagon, at any size."""
+    n = 1 + 3 * R * (R + 1)
+    assert set(map(tuple, T.stadium_sites(n, faceted=True).tolist())) == set(map(tuple, T.hexagon_sites(R).tolist()))
+
+
+def _bonds(sites):
+    """Bound pairs among sites (edge neighbours, each pair once), counted directly."""
+    members = set(map(tuple, np.asarray(sites).tolist()))
+    return sum((i + int(d[0]), j + int(d[1])) in members for i, j in members for d in T.NEIGHBOURS) // 2
+
+
+def test_compact_faceted_aggregates_hold_the_most_bonds_any_n_sites_can():
+    """Harary and Harborth (1976): n sites of the triangular lattice share at most
+    3 n - ceil(sqrt(12 n - 3)) nearest-neighbour pairs. The compact faceted shape reaches it for
+    every n; the round disk falls short, by two at n = 200."""
+    for n in range(1, 400):
+        assert _bonds(T.stadium_sites(n, faceted=True)) == 3 * n - int(np.ceil(np.sqrt(12 * n - 3))), n
+    assert _bonds(T.stadium_sites(200)) == 3 * 200 - 49 - 2
+
+
+@pytest.mark.parametrize("faceted", [False, True])
 @pytest.mark.parametrize("n,segment", [(1, 0.0), (57, 0.0), (200, 12.0), (300, 60.0)])
-def test_stadium_sites_are_distinct_connected_and_deterministic(n, segment):
-    sites = T.stadium_sites(n, segment)
+def test_stadium_sites_are_distinct_connected_and_deterministic(n, segment, faceted):
+    sites = T.stadium_sites(n, segment, faceted=faceted)
     assert sites.shape == (n, 2) and len(set(map(tuple, sites.tolist()))) == n
-    assert np.array_equal(sites, T.stadium_sites(n, segment))
+    assert np.array_equal(sites, T.stadium_sites(n, segment, faceted=faceted))
     # Breadth-first search over the six neighbours reaches every site.
     members = set(map(tuple, sites.tolist()))
     seen, queue = {tuple(sites[0])}, [tuple(sites[0])]
@@ -361,11 +384,12 @@ def test_stadium_sites_are_distinct_connected_and_deterministic(n, segment):
     assert len(seen) == n
 
 
-def test_long_stadium_is_a_strip_of_the_expected_width():
+@pytest.mark.parametrize("faceted", [False, True])
+def test_long_stadium_is_a_strip_of_the_expected_width(faceted):
     """Area conservation: n particles of area sqrt(3)/2 along a segment L make a strip of width
     about n sqrt(3) / (2 L); the gyration width of a uniform strip is its width."""
     n, segment = 600, 100.0
-    width, length = T.gyration_dimensions(T.stadium_sites(n, segment))
+    width, length = T.gyration_dimensions(T.stadium_sites(n, segment, faceted=faceted))
     assert width == pytest.approx(n * np.sqrt(3) / 2 / segment, rel=0.1)
     assert length == pytest.approx(segment, rel=0.1)
 

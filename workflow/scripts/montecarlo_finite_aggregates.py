@@ -1,5 +1,5 @@
 """Finite-size prediction for a Monte Carlo box of n particles: the relaxed single aggregates of
-exactly n particles, compact to elongated (ansatz.finite_aggregates), and the best of them at
+exactly n particles, compact to elongated, round and faceted (ansatz.finite_aggregates), and the best of them at
 each line tension Gamma; and the candidate ground states of the box (ground_states.box_candidates:
 single aggregates, a fibre wrapping the box, several aggregates, the gas), saved with the prefix
 candidate_."""
@@ -22,7 +22,5 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     candidates = ground_states.box_candidates(particle, n, box)
     families = sorted(set(candidates.best_family(g).tolist()))
     print(f"box {box}: {len(candidates.family)} candidate ground states; best over Gamma in [0, {s['finite_Gamma_max']:g}]: {families}")
-    save_npz(snakemake.output[0], provenance=for_job(snakemake), n=n, nu=nu, ell=s["ell"], eps=s["eps"], Gamma=Gamma, g=g, best=best,  # noqa: F821
-             segment=shapes.segment, sites=np.stack(shapes.sites), deformation=shapes.deformation,
-             bonds=shapes.bonds, width=shapes.width, length=shapes.length, converged=shapes.converged,
-             bulk_energy_per_particle=particle.bulk_energy_per_particle, **candidates.arrays())
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), nu=nu, ell=s["ell"], eps=s["eps"], Gamma=Gamma, g=g, best=best,  # noqa: F821
+             bulk_energy_per_particle=particle.bulk_energy_per_particle, **shapes.arrays(), **candidates.arrays())
