@@ -41,7 +41,7 @@ def hollow_markers_explained(mc, n):
     rest = right & ~unrounded
     gaps = mc["gap_ground"][rest]
     other = int((stuck & ~right).sum())
-    return [
+    lines = [
         f"Hollow markers ({int(stuck.sum())}): {int(right.sum())} end in their ground state's structure but not its shape: "
         f"{int(unrounded.sum())} elongated where the best aggregate of {n} is compact",
         "(pieces merged, not yet rounded)"
@@ -49,6 +49,13 @@ def hollow_markers_explained(mc, n):
            "relaxed)" if rest.any() else "")
         + (f"; {other} in another structure." if other else "."),
     ]
+    if "bond_deficit" in mc and stuck.any():
+        short, value = mc["bond_deficit"][stuck], mc["bond_energy"][stuck]
+        few = stuck & (mc["bond_deficit"] >= 1) & (mc["bond_deficit"] <= 3)
+        lines.append(f"{int(few.sum())} of the {int(stuck.sum())} hold 1-3 bonds fewer than the ground state "
+                     f"({int(short.min())} to {int(short.max())} in all), and one bond is worth {value.min():.1f}-{value.max():.1f} "
+                     "bulk particle energies there: the criterion asks for the best outline to within a bond or two.")
+    return lines
 
 
 def main(mc_path, diagram_path, continuum_path, outputs):

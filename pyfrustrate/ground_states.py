@@ -205,6 +205,13 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
                          tuple(np.asarray(s, int) for s in sites), np.array(converged, bool))
 
 
+def box_bonds(sites, box) -> int:
+    """Bound pairs of sides among particles on ``sites`` of the periodic ``box`` (edge neighbours,
+    each pair once): what a run's energy counts ``-g`` for, to compare with a candidate's."""
+    occupied = {tuple(s) for s in _in_box(sites, box).tolist()}
+    return sum(((i + a) % box, (j + b) % box) in occupied for i, j in occupied for a, b in _NEIGHBOURS) // 2
+
+
 def structure(sites, box, major: float = 0.1) -> str:
     """The structure of a box configuration in the terms of ``box_candidates``' families, from
     its clusters alone (no anisotropy threshold): ``"gas"`` (no cluster of 3 or more),

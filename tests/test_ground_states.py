@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pyfrustrate import Hexagon, _kernel, relax, topology
-from pyfrustrate.ground_states import BoxCandidates, box_candidates
+from pyfrustrate.ground_states import BoxCandidates, box_bonds, box_candidates
 
 
 @pytest.fixture(scope="module")
@@ -40,6 +40,24 @@ def test_each_candidate_is_a_configuration_of_the_box_with_the_kernels_energy(pa
         # ~1e-9 where an aggregate is nearly stress-free (the bulk energy per particle is 0.011 here).
         floor = 1e-6 * candidates.n * particle.bulk_energy_per_particle
         assert energy == pytest.approx(candidates.deformation[k], rel=1e-5, abs=floor), candidates.family[k]
+
+
+def test_box_bonds_counts_what_the_kernel_counts(particle, candidates):
+    """The bonds of a configuration, counted in Python with periodic wrapping, against the Monte
+    Carlo kernel's own count: every candidate, and random placements, sparse to dense, where
+    pairs across the box's edges are common."""
+    mc = _kernel.MonteCarlo(particle._kernel_model, 0.0, candidates.box, candidates.n, 0, method="linear")
+    for sites in candidates.sites:
+        mc.place(sites)
+        assert box_bonds(sites, candidates.box) == mc.bonds == box_bonds(sites + 7 * candidates.box, candidates.box)
+    rng = np.random.default_rng(5)
+    for box, n in ((6, 30), (10, 20), (4, 15)):
+        mc = _kernel.MonteCarlo(particle._kernel_model, 0.0, box, n, 0, method="linear")
+        for _ in range(10):
+            cells = rng.choice(box * box, size=n, replace=False)
+            sites = np.column_stack([cells % box, cells // box])
+            mc.place(sites)
+            assert box_bonds(sites, box) == mc.bonds
 
 
 def test_wrapping_fibre_has_the_infinite_fibres_energy_per_particle(particle, candidates):

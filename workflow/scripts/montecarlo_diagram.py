@@ -4,12 +4,13 @@ finite-size prediction: the final energy above the best single aggregate of the 
 (ansatz.finite_aggregates), whether that best aggregate is elongated, and the final energy above
 the box's predicted ground state (the best of ground_states.box_candidates: single aggregates, a
 wrapping fibre, several aggregates, the gas) with that ground state's family, and the run's own
-structure in those terms (ground_states.structure, from its clusters). The same for the scale
-scans (rule montecarlo_scale), whose runs differ by seed too."""
+structure in those terms (ground_states.structure, from its clusters), and how many bonds it
+holds fewer than that ground state (one bond is worth g, given in bulk particle energies). The
+same for the scale scans (rule montecarlo_scale), whose runs differ by seed too."""
 import numpy as np
 
 from pyfrustrate.ansatz import FiniteAggregates, energy_above_best_single
-from pyfrustrate.ground_states import BoxCandidates, structure
+from pyfrustrate.ground_states import BoxCandidates, box_bonds, structure
 from pyfrustrate.io import load_npz, logging_to, save_npz
 from pyfrustrate.provenance import for_job
 from pyfrustrate.montecarlo import ELONGATION_THRESHOLD, classify_aggregate
@@ -42,13 +43,17 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         gap_ground = (float(r["energy"]) - float(candidates.best_energy(g))) / e_bulk
         ground = str(candidates.best_family(g))
         found = structure(r["sites"], int(r["box"]))
-        rows.append((nu, Gamma, int(r["seed"]), kind, size, n, gap, single, gap_ground, ground, found))
+        bond_deficit = int(candidates.bonds[candidates.best(g)]) - box_bonds(r["sites"], int(r["box"]))
+        rows.append((nu, Gamma, int(r["seed"]), kind, size, n, gap, single, gap_ground, ground, found, bond_deficit,
+                     g / e_bulk))
         print(f"nu={nu:g} Gamma={Gamma:g} seed {int(r['seed'])}: {kind} (largest cluster {size} of {n}); "
               f"{gap:+.1f} bulk particle energies above the best single aggregate ({single}), "
-              f"{gap_ground:+.1f} above the box's ground state ({ground}); the run's structure: {found}")
-    nu, Gamma, seed, kind, size, n, gap, single, gap_ground, ground, found = (np.array(c) for c in zip(*rows))
+              f"{gap_ground:+.1f} above the box's ground state ({ground}); the run's structure: {found}; "
+              f"{bond_deficit} bonds fewer than the ground state (a bond: {g / e_bulk:.2f} bulk particle energies)")
+    nu, Gamma, seed, kind, size, n, gap, single, gap_ground, ground, found, bond_deficit, bond_energy = (
+        np.array(c) for c in zip(*rows))
     save_npz(snakemake.output[0], provenance=for_job(snakemake), nu=nu, Gamma=Gamma, seed=seed, kind=kind.astype(str), size=size, n=n,  # noqa: F821
              gap=gap, single_kind=single.astype(str), gap_ground=gap_ground, ground_family=ground.astype(str),
-             structure=found.astype(str),
+             structure=found.astype(str), bond_deficit=bond_deficit, bond_energy=bond_energy,
              elongation_threshold=ELONGATION_THRESHOLD,
              finite_nu=np.array(finite_nu), finite_Gamma=finite_Gamma, finite_elongated=np.array(finite_elongated))
