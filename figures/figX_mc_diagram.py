@@ -95,7 +95,7 @@ def main(mc_path, diagram_path, continuum_path, outputs):
         "infinite-system diagram.",
     ]
     lines += hollow_markers_explained(mc, n)
-    fig.text(0.07, -0.14, "\n".join(lines), fontsize=6)
+    fig.text(0.07, 0.03, "\n".join(lines), fontsize=6, va="top")  # below the axis label, however many lines
     plotting.save(fig, outputs)
 
 
