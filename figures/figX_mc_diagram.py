@@ -49,13 +49,12 @@ def hollow_markers_explained(mc, n):
            "relaxed)" if rest.any() else "")
         + (f"; {other} in another structure." if other else "."),
     ]
-    if "bond_deficit" in mc and stuck.any():
-        short, value = mc["bond_deficit"][stuck], mc["bond_energy"][stuck]
-        few = stuck & (mc["bond_deficit"] >= 1) & (mc["bond_deficit"] <= 3)
-        lines.append(f"{int(few.sum())} of the {int(stuck.sum())} hold 1-3 bonds fewer than the ground state "
-                     f"({int(short.min())} to {int(short.max())} in all), and one bond is worth {value.min():.1f}-{value.max():.1f} "
-                     "bulk particle energies there:")
-        lines.append("the criterion asks for the best outline to within a bond or two.")
+    short, value = mc["bond_deficit"][stuck], mc["bond_energy"][stuck]
+    few = stuck & (mc["bond_deficit"] >= 1) & (mc["bond_deficit"] <= 3)
+    lines.append(f"{int(few.sum())} of the {int(stuck.sum())} hold 1-3 bonds fewer than the ground state "
+                 f"({int(short.min())} to {int(short.max())} in all), and one bond is worth {value.min():.1f}-{value.max():.1f} "
+                 "bulk particle energies there:")
+    lines.append("the criterion asks for the best outline to within a bond or two.")
     return lines
 
 

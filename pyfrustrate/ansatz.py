@@ -256,7 +256,6 @@ def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", to
             r = relax(particle, topology.cluster(sites), method=method, tol=tol, **kwargs)
             shapes.append(sites)
             rows.append((segment, faceted, r.energy, r.n_bonds, *topology.gyration_dimensions(sites), r.converged))
-    cols = list(zip(*rows))
-    return FiniteAggregates(int(n), np.array(cols[0], float), np.array(cols[1], bool), tuple(shapes),
-                            np.array(cols[2], float), np.array(cols[3], int), np.array(cols[4], float),
-                            np.array(cols[5], float), np.array(cols[6], bool))
+    # Each row holds the array fields in FiniteAggregates._FIELDS order.
+    return FiniteAggregates(int(n), sites=tuple(shapes),
+                            **{k: np.array(column) for k, column in zip(FiniteAggregates._FIELDS, zip(*rows))})
