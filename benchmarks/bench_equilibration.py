@@ -1,6 +1,7 @@
 """Does annealing reach the ground state of its box? Cluster-move settings at equal sweeps (issue 15).
 
-For each system, seed and setting (``cluster_moves``, ``cluster_link``, ``bonded_moves``), ``pyfrustrate.anneal``
+For each system, seed and setting (``cluster_moves``, ``cluster_link``, ``bonded_moves``,
+``surface_moves``), ``pyfrustrate.anneal``
 runs ``sweeps`` sweeps (Newton, tol 1e-3, linear schedule from T0 = g) and the final energy is
 compared with the box's predicted ground state (``ground_states.box_candidates``: single
 aggregates, a wrapping fibre, several aggregates, the gas), in bulk particle energies ``e_b``.
@@ -10,7 +11,7 @@ CPU time are against it, for the same seed, measured in the same run.
 Default system: 400 particles in 85 x 85 at ell = 5, eps = 0.01, nu = 0.9, Gamma = 0.3 (the case
 of ``bench_replica_exchange.py``), settings ``0.02:1`` (the former workflow: whole clusters,
 rejected on contact), ``0.02:0.8``, ``0.1:0.8`` and ``0.05:0.9:0.5``
-(``cluster_moves:cluster_link[:bonded_moves]``).
+(``cluster_moves:cluster_link[:bonded_moves[:surface_moves]]``).
 
 Usage: ``python benchmarks/bench_equilibration.py [--quick] [--n 400 --box 85 --nu 0.9
 --Gamma 0.3 --sweeps 4000 --settings 0.02:1 0.1:0.8 --seeds 1 2 3 --jobs 2]``
@@ -30,19 +31,20 @@ from _common import add_box_arguments, import_pyfrustrate, machine_line, source_
 def _setting(text):
     try:
         values = [float(x) for x in text.split(":")]
-        if len(values) not in (2, 3):
+        if len(values) not in (2, 3, 4):
             raise ValueError
     except ValueError:
-        raise argparse.ArgumentTypeError(f"a setting is cluster_moves:cluster_link[:bonded_moves], got {text!r}") from None
-    return tuple(values) + (0.0,) * (3 - len(values))
+        raise argparse.ArgumentTypeError("a setting is cluster_moves:cluster_link[:bonded_moves[:surface_moves]], "
+                                         f"got {text!r}") from None
+    return tuple(values) + (0.0,) * (4 - len(values))
 
 
 def _label(setting):
-    """cluster_moves:cluster_link:bonded_moves, as given on the command line."""
+    """cluster_moves:cluster_link:bonded_moves:surface_moves, as given on the command line."""
     return ":".join(f"{x:g}" for x in setting)
 
 
-def _run(args, seed, moves, link, bonded):
+def _run(args, seed, moves, link, bonded, surface):
     """One annealing run: (energy, largest cluster, structure, CPU seconds, counters)."""
     import_pyfrustrate()
     from pyfrustrate import Hexagon, anneal, continuum
@@ -52,7 +54,8 @@ def _run(args, seed, moves, link, bonded):
     g = float(continuum.particle_parameters(args.ell, args.nu, args.Gamma, eps=args.eps).g)
     cpu = time.process_time()
     r = anneal(particle, g, box=args.box, n=args.n, steps=args.sweeps * args.n, seed=seed, method="newton",
-               tol=1e-3, cluster_moves=moves, cluster_link=link, bonded_moves=bonded, progress=False)
+               tol=1e-3, cluster_moves=moves, cluster_link=link, bonded_moves=bonded,
+               surface_moves=surface, progress=False)
     cpu = time.process_time() - cpu
     return r.energy, max(len(c) for c in r.clusters()), structure(r.sites, args.box), cpu, r.counters
 
@@ -63,7 +66,7 @@ def main(argv=None):
     add_box_arguments(ap)
     ap.add_argument("--settings", type=_setting, nargs="+",
                     default=[(0.02, 1.0, 0.0), (0.02, 0.8, 0.0), (0.1, 0.8, 0.0), (0.05, 0.9, 0.5)],
-                    help="cluster_moves:cluster_link[:bonded_moves] (default 0); the first is the baseline")
+                    help="cluster_moves:cluster_link[:bonded_moves[:surface_moves]] (default 0); the first is the baseline")
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     ap.add_argument("--jobs", type=int, default=2, help="runs side by side (processes)")
     args = ap.parse_args(argv)
@@ -95,11 +98,11 @@ def main(argv=None):
         gaps.setdefault(tuple(setting), []).append(gap)
         rows.append((seed, _label(setting), f"{gap:.1f}", f"{gap / base_gap:.2f}" if base_gap > 0 else "-",
                      found, largest, counters["cluster_rebonded"], f"{cpu:.0f} s", f"{cpu / base_cpu:.2f}"))
-    print(table(rows, ["seed", "moves:link:bonded", "gap (e_b)", "gap / baseline", "structure", "largest", "merges+splits",
+    print(table(rows, ["seed", "moves:link:bonded:surface", "gap (e_b)", "gap / baseline", "structure", "largest", "merges+splits",
                        "CPU", "CPU / baseline"]))
     print()
     print(table([(_label(setting), f"{sum(v) / len(v):.1f}", f"{sum(x < 5 for x in v)}/{len(v)}")
-                 for setting, v in gaps.items()], ["moves:link:bonded", "mean gap (e_b)", "within 5 e_b"]))
+                 for setting, v in gaps.items()], ["moves:link:bonded:surface", "mean gap (e_b)", "within 5 e_b"]))
 
 
 if __name__ == "__main__":

@@ -21,6 +21,8 @@ inline pybind11::dict counters_dict(const MonteCarloCounters& c) {
     d["cluster_attempted"] = c.cluster_attempted;
     d["cluster_accepted"] = c.cluster_accepted;
     d["cluster_rebonded"] = c.cluster_rebonded;
+    d["surface_attempted"] = c.surface_attempted;
+    d["surface_accepted"] = c.surface_accepted;
     d["cache_hits"] = c.cache.hits;
     d["cache_misses"] = c.cache.misses;
     d["cache_clears"] = c.cache.clears;
@@ -46,7 +48,7 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
         .def(py::init([](const Model& model, double g, int box, int n, std::uint64_t seed, const std::string& method,
                          double tol, int max_iter, bool cache, bool warm_start, bool incremental, std::size_t cache_limit,
                          bool delayed_acceptance, double bond_deformation, double cluster_moves, double cluster_link, double bonded_moves,
-                         bool parent_start) {
+                         double surface_moves, bool parent_start) {
                  MonteCarloOptions o;
                  if (method == "linear") o.relax.method = RelaxMethod::Linear;
                  else if (method == "lbfgs") o.relax.method = RelaxMethod::Lbfgs;
@@ -73,6 +75,9 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                  if (!(bonded_moves >= 0 && bonded_moves < 1))  // at 1 a particle could never leave an aggregate
                      throw std::invalid_argument("bonded_moves must lie in [0, 1), got " + std::to_string(bonded_moves));
                  o.bonded_moves = bonded_moves;
+                 if (!(surface_moves >= 0 && surface_moves < 1))  // at 1 a gas particle could never leave its spot
+                     throw std::invalid_argument("surface_moves must lie in [0, 1), got " + std::to_string(surface_moves));
+                 o.surface_moves = surface_moves;
                  if (parent_start && o.relax.method != RelaxMethod::Newton)
                      throw std::invalid_argument("parent_start needs method='newton'");
                  o.parent_start = parent_start;
@@ -83,7 +88,8 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
              py::arg("tol") = 1e-7, py::arg("max_iter") = 100000, py::arg("cache") = true, py::arg("warm_start") = true,
              py::arg("incremental") = true, py::arg("cache_limit") = std::size_t(1) << 24,
              py::arg("delayed_acceptance") = true, py::arg("bond_deformation") = 0.0, py::arg("cluster_moves") = 0.0,
-             py::arg("cluster_link") = 1.0, py::arg("bonded_moves") = 0.0, py::arg("parent_start") = false,
+             py::arg("cluster_link") = 1.0, py::arg("bonded_moves") = 0.0, py::arg("surface_moves") = 0.0,
+             py::arg("parent_start") = false,
              "Random initial placement drawn from the seeded std::mt19937_64. tol is the absolute L-BFGS gradient "
              "tolerance (NLopt works in units of the model's step_scale); cache_limit the stored key entries before the cache is cleared; delayed_acceptance screens "
              "moves with the surrogate energy -(g - bond_deformation) * bonds before relaxing anything (same "
@@ -91,7 +97,7 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
              "a random particle by following each bond with probability cluster_link, shifted by a random lattice vector "
              "and accepted with the Metropolis-Hastings ratio (cluster_link = 1: whole clusters, rejected on any overlap or "
              "new contact, so shape and energy unchanged; below 1 aggregates can merge and split); bonded_moves is the probability that a particle move "
-             "targets an empty site next to another particle (aggregation-volume-bias, with its Hastings ratio); parent_start (method='newton') relaxes the clusters a move makes "
+             "targets an empty site next to another particle (aggregation-volume-bias, with its Hastings ratio); surface_moves is the probability that a non-cluster move takes a random particle with an empty neighbour to a random empty site next to a particle (with its Hastings ratio); parent_start (method='newton') relaxes the clusters a move makes "
              "from the relaxed displacements of the clusters they came from, exact Hessian from the first step (energies "
              "equal the cold start's to the tolerance, not to the last bit); incremental=False re-minimises every cluster of the box on every move.")
         .def(
@@ -183,6 +189,7 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                 c.attempted = get("attempted"), c.accepted = get("accepted"), c.screened = get("screened");
                 c.cluster_attempted = get("cluster_attempted"), c.cluster_accepted = get("cluster_accepted");
                 c.cluster_rebonded = get("cluster_rebonded");
+                c.surface_attempted = get("surface_attempted"), c.surface_accepted = get("surface_accepted");
                 c.cache.hits = get("cache_hits"), c.cache.misses = get("cache_misses"), c.cache.clears = get("cache_clears");
                 c.relax.minimisations = get("minimisations"), c.relax.evaluations = get("evaluations");
                 c.relax.fallbacks = get("fallbacks"), c.relax.unconverged = get("unconverged");
@@ -191,7 +198,7 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
             },
             "attempted, accepted, screened (rejected by the surrogate), cluster_attempted, cluster_accepted (cluster "
             "translations, counted in attempted/accepted too), cluster_rebonded (accepted translations that made or "
-            "broke bonds), cache_hits, cache_misses, cache_clears, minimisations, evaluations (energy+gradient "
+            "broke bonds), surface_attempted, surface_accepted (surface moves, within attempted/accepted), cache_hits, cache_misses, cache_clears, minimisations, evaluations (energy+gradient "
             "evaluations, 1 per linear solve), fallbacks (linear solve refused, done by L-BFGS), unconverged, "
             "factorizations, warm_starts (Newton from the parents' relaxed state), warm_restarts (of those, "
             "redone from the linear solution).")

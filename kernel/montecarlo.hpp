@@ -35,10 +35,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pyfrustrate {
@@ -83,6 +85,17 @@ struct MonteCarloOptions {
     // site left; Metropolis-Hastings takes their ratio. 0: random empty sites only; below 1, or
     // a particle could never leave an aggregate (the chain would not be ergodic).
     double bonded_moves = 0.0;
+    // Probability that an attempted move (not a cluster move) is a surface move: a random
+    // particle among those with an empty neighbour (n_s of them) goes to a random empty site
+    // among those with an occupied neighbour (n_p). The reverse move exists iff the site left
+    // keeps an occupied neighbour and the site reached has an empty one; Metropolis-Hastings
+    // then takes the ratio n_s n_p / (n_s' n_p') of the counts before and after (a move kernel
+    // of its own, mixed with the others at a fixed probability, so each keeps detailed balance
+    // alone). Where bonded moves propose a given kink-to-kink jump of a 200-particle aggregate
+    // with probability ~ w c / (D N^2), this proposes it with ~ 1 / (n_s n_p): the bond-neutral
+    // rearrangements that take an aggregate's outline to the one with the most bonds are tried
+    // some 50 times as often. 0: none (no deviate drawn).
+    double surface_moves = 0.0;
     bool cache = true;        // cache relaxed energies by canonical shape
     bool incremental = true;  // false: re-minimise every cluster of the box on every move
                               // (the naive baseline of the benchmark; no cache either)
@@ -107,6 +120,7 @@ struct MonteCarloCounters {
     std::int64_t screened = 0;  // rejected by the surrogate, without relaxing anything
     std::int64_t cluster_attempted = 0, cluster_accepted = 0;  // cluster translations (within attempted/accepted)
     std::int64_t cluster_rebonded = 0;  // accepted translations that made or broke bonds (aggregates met or split)
+    std::int64_t surface_attempted = 0, surface_accepted = 0;  // surface moves (within attempted/accepted)
     CacheCounters cache;
     RelaxCounters relax;
 };
@@ -162,7 +176,17 @@ private:
     double uniform01();                            // in [0, 1), 53 bits
     int random_empty_site();
     bool particle_step(double T);
+    bool surface_step(double T);
     bool cluster_step(double T);
+    // Moves particle p to the empty site b and accepts or undoes it; log_hastings(lost, gained)
+    // gives the log ratio of the reverse to the forward proposal probability once the move is
+    // made on the occupancy (lost, gained: the bonds at the site left and at b), -inf if the
+    // reverse move cannot be proposed.
+    template <class Hastings>
+    bool try_particle_move(int p, int b, double T, const Hastings& log_hastings);
+    // Particles with an empty neighbour and empty sites with an occupied neighbour, among
+    // `sites` (each once) as the occupancy stands.
+    std::pair<int, int> exposed_counts(const std::vector<int>& sites) const;
     // A move under test, made on the occupancy: particles arrived on `arrived` and left
     // `vacated`. The deformation before (old_ids_, the clusters it changes) and after (fresh_:
     // the clusters through the arrived sites and the pieces next to the vacated ones, relaxed
@@ -206,6 +230,7 @@ private:
     ClusterEnergyCache cache_;
     std::vector<int> symmetries_;  // lattice operations under which shapes are equivalent
     ClusterWorkspace ws_, ws_canonical_, grown_;  // grown_: the set a cluster move shifts
+    std::vector<int> surface_, perimeter_, around_;  // surface moves: candidates, and the sites a move can change
     std::vector<Cluster> fresh_;         // clusters after the move under test
     std::vector<double> fresh_energy_;
     // parent_start: the relaxed displacement of every corner slot of the particle on each site
@@ -486,6 +511,7 @@ inline bool MonteCarlo<Model>::step(double T) {
     ++counters.attempted;
     // No deviate is drawn without cluster moves, so particle-move chains keep their sequence.
     if (options_.cluster_moves > 0 && uniform01() < options_.cluster_moves) return cluster_step(T);
+    if (options_.surface_moves > 0 && uniform01() < options_.surface_moves) return surface_step(T);
     return particle_step(T);
 }
 
@@ -690,7 +716,6 @@ inline bool MonteCarlo<Model>::cluster_step(double T) {
 template <class Model>
 inline bool MonteCarlo<Model>::particle_step(double T) {
     const int p = static_cast<int>(uniform_index(particles_.size()));
-    const int a = particles_[p];
     const int N = n();
     // The target: a random empty site, or (bonded_moves) a random neighbour site of a random
     // other particle, refused if occupied. No deviate is drawn without bonded moves.
@@ -703,7 +728,77 @@ inline bool MonteCarlo<Model>::particle_step(double T) {
     } else {
         b = random_empty_site();
     }
+    // Bonded moves: the log ratio of the reverse to the forward proposal probability (gained =
+    // occupied neighbours of b without the mover, lost = those of the site left).
+    return try_particle_move(p, b, T, [&](int lost, int gained) {
+        if (options_.bonded_moves <= 0 || N < 2) return 0.0;
+        const double w = options_.bonded_moves, uniform = (1 - w) / (box_.n_sites() - N),
+                     bonded = w / (static_cast<double>(box_.neighbours()) * (N - 1));
+        const double forward = uniform + bonded * gained, reverse = uniform + bonded * lost;
+        return std::log(reverse / forward);  // reverse > 0: w < 1
+    });
+}
 
+template <class Model>
+inline std::pair<int, int> MonteCarlo<Model>::exposed_counts(const std::vector<int>& sites) const {
+    int surface = 0, perimeter = 0;
+    for (const int s : sites) {
+        const int c = occupied_neighbours(s);
+        if (occupant_[s] >= 0) surface += c < box_.neighbours();
+        else perimeter += c > 0;
+    }
+    return {surface, perimeter};
+}
+
+template <class Model>
+inline bool MonteCarlo<Model>::surface_step(double T) {
+    ++counters.surface_attempted;
+    // The candidates, listed afresh (O(N D), small beside a relaxation): particles with an empty
+    // neighbour, and the empty sites next to a particle, each once.
+    surface_.clear();
+    perimeter_.clear();
+    grown_.new_round();
+    for (const int s : particles_) {
+        bool exposed = false;
+        for (int d = 0; d < box_.neighbours(); ++d) {
+            const int u = box_.next(s, d);
+            if (occupant_[u] >= 0) continue;
+            exposed = true;
+            if (!grown_.seen(u)) {
+                grown_.mark[u] = grown_.stamp;
+                perimeter_.push_back(u);
+            }
+        }
+        if (exposed) surface_.push_back(s);
+    }
+    if (surface_.empty() || perimeter_.empty()) return false;  // a full box
+    const int a = surface_[uniform_index(surface_.size())];
+    const int b = perimeter_[uniform_index(perimeter_.size())];
+    // Only a, b and their neighbours can change status: the counts after the move are those
+    // before plus the change over these sites.
+    around_.assign({a, b});
+    for (const int s : {a, b})
+        for (int d = 0; d < box_.neighbours(); ++d) around_.push_back(box_.next(s, d));
+    std::sort(around_.begin(), around_.end());
+    around_.erase(std::unique(around_.begin(), around_.end()), around_.end());
+    const std::pair<int, int> before = exposed_counts(around_);
+    const double n_surface = static_cast<double>(surface_.size()), n_perimeter = static_cast<double>(perimeter_.size());
+    const bool accepted = try_particle_move(occupant_[a], b, T, [&](int, int) {
+        if (occupied_neighbours(a) == 0 || occupied_neighbours(b) == box_.neighbours())
+            return -std::numeric_limits<double>::infinity();  // no reverse proposal
+        const std::pair<int, int> after = exposed_counts(around_);
+        const double surface_after = n_surface + after.first - before.first,
+                     perimeter_after = n_perimeter + after.second - before.second;
+        return std::log(n_surface * n_perimeter / (surface_after * perimeter_after));
+    });
+    counters.surface_accepted += accepted;
+    return accepted;
+}
+
+template <class Model>
+template <class Hastings>
+inline bool MonteCarlo<Model>::try_particle_move(int p, int b, double T, const Hastings& hastings) {
+    const int a = particles_[p];
     const int lost = occupied_neighbours(a);  // bonds of the particle at a (b is empty)
     // The move, undone unless accepted.
     const auto undo = [&] {
@@ -715,14 +810,10 @@ inline bool MonteCarlo<Model>::particle_step(double T) {
     occupant_[b] = p;
     particles_[p] = b;
     const int gained = occupied_neighbours(b);  // bonds at b (a is now empty)
-    // Bonded moves: the log ratio of the reverse to the forward proposal probability (gained =
-    // occupied neighbours of b without the mover, lost = those of a), in the first stage.
-    double log_hastings = 0.0;
-    if (options_.bonded_moves > 0 && N > 1) {
-        const double w = options_.bonded_moves, uniform = (1 - w) / (box_.n_sites() - N),
-                     bonded = w / (static_cast<double>(box_.neighbours()) * (N - 1));
-        const double forward = uniform + bonded * gained, reverse = uniform + bonded * lost;
-        log_hastings = std::log(reverse / forward);  // reverse > 0: w < 1
+    const double log_hastings = hastings(lost, gained);
+    if (std::isinf(log_hastings)) {  // the reverse move cannot be proposed
+        undo();
+        return false;
     }
     double surrogate;
     if (!passes_first_stage(gained - lost, log_hastings, T, surrogate)) {

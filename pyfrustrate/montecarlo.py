@@ -321,6 +321,7 @@ def _read_checkpoint(path, signature):
     saved.setdefault("cluster_moves", 0.0)  # checkpoints written before cluster moves existed
     saved.setdefault("cluster_link", 1.0)  # ... and before linked cluster moves
     saved.setdefault("bonded_moves", 0.0)  # ... and before bonded particle moves
+    saved.setdefault("surface_moves", 0.0)  # ... and before surface moves
     _check_signature(path, saved, signature)
     return data
 
@@ -340,7 +341,7 @@ def _check_signature(path, saved, signature):
 def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None, method="lbfgs", tol=1e-3,
            checkpoint=None, progress=True, *, T0=None, T_end=None, record_every=None, checkpoint_interval=60.0,
            cache=True, warm_start=True, delayed_acceptance=True, cluster_moves=0.0, cluster_link=1.0,
-           bonded_moves=0.0, max_iter=100_000, callback=None, state=None) -> AnnealResult:
+           bonded_moves=0.0, surface_moves=0.0, max_iter=100_000, callback=None, state=None) -> AnnealResult:
     """Simulated annealing of the topology of ``n`` particles in a periodic ``box x box`` lattice.
 
     Parameters
@@ -432,6 +433,14 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
         ratio of the reverse to the forward proposal probability, so the Boltzmann distribution is
         kept; surface moves that reshape aggregates are then proposed far more often than among
         all empty sites of a sparse box. Default 0.
+    surface_moves : float
+        In [0, 1): the probability that a move (other than a cluster move) takes a random particle
+        with an empty neighbour to a random empty site with an occupied neighbour, accepted with
+        the ratio ``n_s n_p / (n_s' n_p')`` of the numbers of such particles and sites before and
+        after (and refused when the reverse move could not be proposed), so the Boltzmann
+        distribution is kept. At low temperature it proposes the bond-neutral jumps between the
+        kinks of an aggregate's outline far more often than particle or bonded moves, which pick
+        the particle and the target among all of them. Default 0.
     max_iter : int
         Cap on energy evaluations per L-BFGS relaxation.
     callback : callable or None
@@ -474,6 +483,7 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     cluster_moves = _probability("cluster_moves", cluster_moves)
     cluster_link = _probability("cluster_link", cluster_link)
     bonded_moves = _probability("bonded_moves", bonded_moves)  # the kernel refuses 1 (not ergodic)
+    surface_moves = _probability("surface_moves", surface_moves)  # ... and 1 (a gas particle would be stuck)
     temps, block_steps, stage_of_block, n_stages = _plan(steps, schedule, T0, T_end, record_every)
     total_steps = int(block_steps.sum())
     cum_steps = np.cumsum(block_steps)
@@ -484,7 +494,7 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     signature = dict(particle=particle_params, g=g, box=box, n=n, seed=seed, method=method, tol=float(tol),
                      max_iter=max_iter, warm_start=bool(warm_start), delayed_acceptance=bool(delayed_acceptance),
                      cluster_moves=cluster_moves, cluster_link=cluster_link, bonded_moves=bonded_moves,
-                     plan=plan_digest)
+                     surface_moves=surface_moves, plan=plan_digest)
     params = dict(signature, particle_type=type(particle).__name__, schedule=_schedule_description(schedule),
                   T0=T0, T_end=T_end, steps=total_steps, record_every=record_every, cache=bool(cache),
                   bond_deformation=bond_deformation)
@@ -493,7 +503,7 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
                             max_iter=max_iter, cache=bool(cache), warm_start=bool(warm_start),
                             delayed_acceptance=bool(delayed_acceptance), bond_deformation=bond_deformation,
                             cluster_moves=cluster_moves, cluster_link=cluster_link, bonded_moves=bonded_moves,
-                            parent_start=bool(warm_start) and method == "newton")
+                            surface_moves=surface_moves, parent_start=bool(warm_start) and method == "newton")
     energies, accepted = [], []
     done, elapsed_before, resumed = 0, 0.0, False
     if state is None and checkpoint is not None and os.path.exists(checkpoint):

@@ -146,6 +146,18 @@ def test_incremental_energy_matches_scratch(particle, g, method, box, n, seed, d
         assert wrapped, "the dense box should produce clusters that wrap around it"
 
 
+def assert_running_totals(mc, particle, box, n, temperatures, steps, rel):
+    """Runs ``steps`` moves at each temperature; after each, the running bonds equal a count on
+    the torus and the running energy a recomputation from scratch (to ``rel`` of n e_b)."""
+    scale = n * particle.bulk_energy_per_particle
+    for T_ in temperatures:
+        mc.run(np.array([T_]), np.array([steps]))
+        occupied = {tuple(s) for s in mc.particles.tolist()}
+        assert mc.bonds == sum(((i + di) % box, (j + dj) % box) in occupied
+                               for i, j in occupied for di, dj in T.NEIGHBOURS) // 2
+        assert mc.energy == pytest.approx(mc.box_energy(True), abs=rel * scale)
+
+
 @pytest.mark.parametrize("method", ["linear", "lbfgs"])
 @pytest.mark.parametrize("link", [1.0, 0.5])
 def test_cluster_moves_keep_the_incremental_bookkeeping(particle, g, method, link):
@@ -154,25 +166,21 @@ def test_cluster_moves_keep_the_incremental_bookkeeping(particle, g, method, lin
     particle moves change clusters in between."""
     box, n = 14, 30
     mc = kernel_mc(particle, g, box, n, 5, method, cluster_moves=0.4, cluster_link=link)
-    scale = n * particle.bulk_energy_per_particle
-    for T_ in np.linspace(g, 0.2 * g, 8):
-        mc.run(np.array([T_]), np.array([300]))
-        occupied = {tuple(s) for s in mc.particles.tolist()}
-        assert mc.bonds == sum(((i + di) % box, (j + dj) % box) in occupied
-                               for i, j in occupied for di, dj in T.NEIGHBOURS) // 2
-        assert mc.energy == pytest.approx(mc.box_energy(True), abs=1e-12 * scale)
+    assert_running_totals(mc, particle, box, n, np.linspace(g, 0.2 * g, 8), 300, 1e-12)
     c = mc.counters
     assert 0 < c["cluster_accepted"] <= c["cluster_attempted"] < c["attempted"]
     assert c["cluster_attempted"] == pytest.approx(0.4 * c["attempted"], rel=0.05)
 
 
 def test_without_cluster_moves_the_chain_is_unchanged(particle, g):
-    """cluster_moves = 0 draws no extra random numbers: the particle-move chain is the same."""
+    """cluster_moves = 0 and surface_moves = 0 draw no extra random numbers: the particle-move
+    chain is the same."""
     a = kernel_mc(particle, g, 10, 20, 4)
-    b = kernel_mc(particle, g, 10, 20, 4, cluster_moves=0.0)
+    b = kernel_mc(particle, g, 10, 20, 4, cluster_moves=0.0, surface_moves=0.0)
     for mc in (a, b):
         mc.run(np.linspace(g, 0, 10), np.full(10, 50))
-    assert np.array_equal(a.particles, b.particles) and a.counters["cluster_attempted"] == 0
+    assert np.array_equal(a.particles, b.particles) and b.counters["cluster_attempted"] == 0
+    assert b.counters["surface_attempted"] == 0
 
 
 def test_bonds_counted_on_the_torus(particle, g):
@@ -344,8 +352,38 @@ def test_bonded_particle_moves_keep_the_boltzmann_weights(box, n, delayed, bonde
     assert tv_states < 0.06
 
 
+@pytest.mark.parametrize("box,n,delayed,surface", [(4, 3, True, 0.5), (4, 3, False, 0.5), (3, 4, True, 0.8), (5, 3, True, 0.9)])
+def test_surface_moves_keep_the_boltzmann_weights(box, n, delayed, surface):
+    """Surface moves (a random particle with an empty neighbour to a random empty site next to
+    a particle, with the Hastings ratio of those counts before and after, refused when the
+    reverse move could not be proposed): the chain must sample exp(-E/T) exactly. Mixed with
+    bonded particle moves, so both Hastings ratios act in one chain."""
+    particle = Hexagon.from_continuum(ell=5, nu=0.9, eps=0.05)
+    g = float(continuum.particle_parameters(5, 0.9, 0.5, eps=0.05).g)
+    states, E = enumerate_states(kernel_mc(particle, g, box, n, 0), box, n)
+    mc = kernel_mc(particle, g, box, n, 13, delayed_acceptance=delayed, surface_moves=surface, bonded_moves=0.3)
+    tv_states, tv_levels, z = compare_with_boltzmann(mc, states, E, 0.5 * g, g, 200_000)
+    c = mc.counters
+    assert c["surface_attempted"] == pytest.approx(surface * c["attempted"], rel=0.02)
+    assert c["surface_accepted"] > 5_000
+    assert mc.energy == pytest.approx(mc.box_energy(True), rel=0, abs=1e-12)
+    assert len(np.unique(np.round(E, 10))) >= 5
+    assert z < 5
+    assert tv_levels < 0.02
+    assert tv_states < 0.06
+
+
+def test_surface_moves_keep_the_incremental_bookkeeping(particle, g):
+    """Surface moves go through the same incremental cluster bookkeeping as particle moves:
+    the running energy and bonds equal a recomputation from scratch along an anneal."""
+    box, n = 12, 40
+    mc = kernel_mc(particle, g, box, n, 6, "newton", surface_moves=0.6, cluster_moves=0.1, cluster_link=0.8)
+    assert_running_totals(mc, particle, box, n, np.linspace(g, 0.1 * g, 8), 400, 1e-9)
+    assert mc.counters["surface_accepted"] > 100
+
+
 def test_linked_cluster_moves_keep_the_boltzmann_weights_of_triangles():
-    """Linked cluster moves and bonded particle moves together on the triangular tiling (two
+    """Linked cluster moves, bonded particle moves and surface moves together on the triangular tiling (two
     sublattices, three bonds per particle): a 3 x 3 box of 18 sites, 4 triangles (3 give only
     three energy levels). Sites are numbered sublattice + 2 (i + 3 j), as ``run`` records them.
     Over its 3060 states the sampled state frequencies are too noisy to compare one by one:
@@ -360,9 +398,9 @@ def test_linked_cluster_moves_keep_the_boltzmann_weights_of_triangles():
         reference.place(np.array([((k // 2) % box, (k // 2) // box, k % 2) for k in state]))
         E.append(reference.box_energy(True))
     E = np.array(E)
-    mc = kernel_mc(particle, g, box, n, 5, cluster_moves=0.5, cluster_link=0.5, bonded_moves=0.5)
+    mc = kernel_mc(particle, g, box, n, 5, cluster_moves=0.5, cluster_link=0.5, bonded_moves=0.5, surface_moves=0.3)
     _, tv_levels, z = compare_with_boltzmann(mc, states, E, 0.5 * g, g, 200_000)
-    assert mc.counters["cluster_rebonded"] > 10_000
+    assert mc.counters["cluster_rebonded"] > 10_000 and mc.counters["surface_accepted"] > 5_000
     assert len(np.unique(np.round(E / g, 9))) >= 5
     assert z < 5 and tv_levels < 0.02
 
@@ -521,6 +559,7 @@ def test_state_from_a_checkpoint_continues_the_run(particle, g, tmp_path):
     (dict(cluster_link=-0.5), "cluster_link"), (dict(cluster_link=1.01), "cluster_link"),
     (dict(cluster_link=float("nan")), "cluster_link"),
     (dict(bonded_moves=1.0), "bonded_moves"), (dict(bonded_moves=-0.1), "bonded_moves"),
+    (dict(surface_moves=1.0), "surface_moves"), (dict(surface_moves=float("nan")), "surface_moves"),
 ])
 def test_bad_input_names_the_parameter(particle, g, kw, name):
     kw = dict(dict(g=g), **kw)
