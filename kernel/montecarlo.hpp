@@ -2,8 +2,10 @@
 // phase diagram", and the snapshots of Fig. 3b).
 //
 // N particles occupy distinct sites of a periodic L x L box of cells of the particle's tiling
-// (box.hpp). A move takes a random particle to a random empty site, or shifts a set of bonded
-// particles by a random lattice vector (cluster moves, MonteCarloOptions). The energy of a
+// (box.hpp). A move takes a random particle to a random empty site (or next to another particle:
+// bonded moves), a particle of an aggregate's outline to another site of an outline (surface
+// moves), or shifts a set of bonded particles by a random lattice vector (cluster moves); the
+// options and Hastings ratios are in MonteCarloOptions. The energy of a
 // configuration is a sum over its connected clusters (connectivity through the tiling's edge
 // neighbours, periodic):
 //
