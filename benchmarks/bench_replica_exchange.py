@@ -7,7 +7,8 @@ ends tens of bulk particle energies above the best single aggregate of 400 parti
 seed 1, measured with bench_equilibration.py; README). For each seed:
 
 * ``anneal``            ``pyfrustrate.anneal`` with ``sweeps`` sweeps (the workflow's moves: Newton at tol
-                        1e-3, cluster_moves 0.05, cluster_link 0.9, bonded_moves 0, or as given);
+                        1e-3, cluster_moves 0.05, cluster_link 0.9, bonded_moves 0, surface_moves 0,
+                        or as given);
 * ``replica exchange``  ``pyfrustrate.replica_exchange`` on a geometric ladder of ``K``
                         temperatures from ``T_min`` to ``T_max`` (in units of g), ``sweeps / K``
                         rounds of one sweep per replica (the same attempted moves in all), then
@@ -20,7 +21,7 @@ annealing run of the same seed.
 
 Usage: ``python benchmarks/bench_replica_exchange.py [--quick] [--n 400 --box 85 --nu 0.9
 --Gamma 0.3 --sweeps 4000 --replicas 8 --T-min 0.05 --T-max 0.5 --cluster-moves 0.05 --cluster-link 0.9
---bonded-moves 0 --method newton --seeds 1 2]``
+--bonded-moves 0 --surface-moves 0 --method newton --seeds 1 2]``
 """
 from __future__ import annotations
 
@@ -45,6 +46,7 @@ def main(argv=None):
     ap.add_argument("--cluster-moves", type=float, default=0.05)
     ap.add_argument("--cluster-link", type=float, default=0.9)
     ap.add_argument("--bonded-moves", type=float, default=0.0)
+    ap.add_argument("--surface-moves", type=float, default=0.0)
     ap.add_argument("--method", default="newton")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--seeds", type=int, nargs="+", default=[1])
@@ -62,7 +64,7 @@ def main(argv=None):
     ladder = geometric_temperatures(args.T_min * g, args.T_max * g, args.replicas)
     rounds = max(1, args.sweeps // args.replicas)
     moves = dict(method=args.method, tol=1e-3, cluster_moves=args.cluster_moves, cluster_link=args.cluster_link,
-                 bonded_moves=args.bonded_moves)
+                 bonded_moves=args.bonded_moves, surface_moves=args.surface_moves)
     print(f"{machine_line()}\n{source_line()}")
     print(f"{args.n} particles in {args.box} x {args.box}, ell = {args.ell:g}, nu = {args.nu:g}, "
           f"Gamma = {args.Gamma:g} "

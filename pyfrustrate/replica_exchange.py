@@ -118,7 +118,8 @@ def _streams(seed: int, count: int):
 
 
 def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exchange_every=None, seed=None,
-                     method="lbfgs", tol=1e-3, cluster_moves=0.0, cluster_link=1.0, bonded_moves=0.0, delayed_acceptance=True, quench_sweeps=50,
+                     method="lbfgs", tol=1e-3, cluster_moves=0.0, cluster_link=1.0, bonded_moves=0.0, surface_moves=0.0,
+                     delayed_acceptance=True, quench_sweeps=50,
                      threads=None, state=None, checkpoint=None, checkpoint_interval=60.0, progress=True,
                      record_sites=False, max_iter=100_000) -> ReplicaExchangeResult:
     """Replica exchange of ``n`` particles in a periodic ``box x box`` lattice (module docstring).
@@ -137,7 +138,7 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
         one sweep), so a run costs ``K * rounds * exchange_every`` moves.
     seed : int or None
         Seeds every stream of the run (module docstring); None draws one, which the result records.
-    method, tol, cluster_moves, cluster_link, bonded_moves, delayed_acceptance, max_iter
+    method, tol, cluster_moves, cluster_link, bonded_moves, surface_moves, delayed_acceptance, max_iter
         The chain of each replica, as in ``anneal``.
     quench_sweeps : int
         Sweeps at T = 0 (a descent: every move that lowers the energy is taken) of the coldest
@@ -188,7 +189,8 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
                    delayed_acceptance=bool(delayed_acceptance), bond_deformation=bond_deformation,
                    cluster_moves=_probability("cluster_moves", cluster_moves),
                    cluster_link=_probability("cluster_link", cluster_link),
-                   bonded_moves=_probability("bonded_moves", bonded_moves))
+                   bonded_moves=_probability("bonded_moves", bonded_moves),
+                   surface_moves=_probability("surface_moves", surface_moves))
     signature = dict(particle=_particle_signature(particle), g=g, box=box, n=n, seed=seed,
                      temperatures=hashlib.sha256(T.tobytes()).hexdigest(), exchange_every=exchange_every,
                      **{k: v for k, v in options.items() if k != "tol"}, tol=float(tol))
@@ -318,5 +320,6 @@ def _read_checkpoint(path, signature) -> ReplicaState:
     saved = dict(data["signature"])
     saved.setdefault("cluster_link", 1.0)  # checkpoints written before linked cluster moves
     saved.setdefault("bonded_moves", 0.0)  # ... and before bonded particle moves
+    saved.setdefault("surface_moves", 0.0)  # ... and before surface moves
     _check_signature(path, saved, signature)
     return data["state"]

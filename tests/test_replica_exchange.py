@@ -36,13 +36,14 @@ def exact_energies(particle, g, box, n):
     return {s: k for k, s in enumerate(states)}, np.array(energies)
 
 
-@pytest.mark.parametrize("box,n,cluster_moves,cluster_link", [(3, 3, 0.0, 1.0), (4, 3, 0.5, 1.0), (4, 3, 0.5, 0.5)])
-def test_every_temperature_samples_its_boltzmann_weights(particle, g, box, n, cluster_moves, cluster_link):
+@pytest.mark.parametrize("box,n,cluster_moves,cluster_link,surface_moves",
+                         [(3, 3, 0.0, 1.0, 0.0), (4, 3, 0.5, 1.0, 0.0), (4, 3, 0.5, 0.5, 0.0), (4, 3, 0.2, 0.5, 0.5)])
+def test_every_temperature_samples_its_boltzmann_weights(particle, g, box, n, cluster_moves, cluster_link, surface_moves):
     T = np.array([0.25, 0.5, 1.0]) * g
     rounds = 40_000
     r = replica_exchange(particle, g, T, box=box, n=n, rounds=rounds, exchange_every=5, seed=box + n, threads=1,
                          method="lbfgs", tol=1e-6, cluster_moves=cluster_moves, cluster_link=cluster_link, quench_sweeps=0,
-                         progress=False,
+                         surface_moves=surface_moves, progress=False,
                          record_sites=True)
     assert np.all(r.swap_acceptance > 0.2) and r.round_trips > 100  # the ladder is really used
     index, E = exact_energies(particle, g, box, n)
@@ -105,6 +106,7 @@ def test_quench_ends_in_a_local_minimum_of_the_coldest_configuration(particle, g
     ({"n": 100}, "n must be smaller"),
     ({"rounds": -1}, "rounds"),
     ({"cluster_moves": 2.0}, "cluster_moves"),
+    ({"surface_moves": 1.0}, "surface_moves"),
     ({"method": "magic"}, "method"),
     ({"g": -1.0}, "g must"),
     ({"state": ReplicaState(replicas=[{}], slot_of_replica=np.arange(1), swap_rng={})}, "replicas"),
