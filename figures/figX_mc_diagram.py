@@ -11,7 +11,7 @@ ended more than EQUILIBRATED_GAP bulk particle energies above the box's predicte
 aggregates, the gas), i.e. not equilibrated; the gaps are in the log of montecarlo_diagram."""
 from matplotlib.lines import Line2D
 
-from pyfrustrate import plotting
+from pyfrustrate import plotting, topology
 from pyfrustrate.ground_states import EQUILIBRATED_GAP
 from pyfrustrate.io import load_npz, logging_to
 
@@ -55,6 +55,13 @@ def hollow_markers_explained(mc, n):
                  f"({int(short.min())} to {int(short.max())} in all), and one bond is worth {value.min():.1f}-{value.max():.1f} "
                  "bulk particle energies there:")
     lines.append("the criterion asks for the best outline to within a bond or two.")
+    sides = topology.complete_hexagon_sides(n)
+    last_bond = stuck & (mc["bond_deficit"] == 1) & (mc["ground_bonds"] == topology.most_bonds(n))
+    if sides and last_bond.any():
+        lines.append(f"{int(last_bond.sum())} of the hollow markers miss only the last bond of the complete hexagon of {n} "
+                     f"(sides {', '.join(map(str, sides))}), the one outline with the most bonds {n} particles can hold:")
+        lines.append("it is favoured over the many outlines one bond short only at temperatures where the runs no "
+                     "longer reshape.")
     return lines
 
 

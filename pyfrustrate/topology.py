@@ -46,7 +46,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import lru_cache
-from math import gcd
+from math import gcd, isqrt
 
 import numpy as np
 
@@ -295,6 +295,37 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.nda
         distance = np.round(np.hypot(along, across), 9)
         order = np.lexsort((np.arctan2(xy[:, 1], xy[:, 0]), np.round(np.hypot(*xy.T), 9), distance))
     return sites[order[:n]]
+
+
+def most_bonds(n: int) -> int:
+    """The most nearest-neighbour pairs ``n`` sites of the triangular lattice can share,
+    ``3 n - ceil(sqrt(12 n - 3))`` (Harary and Harborth, 1976), in integer arithmetic."""
+    if isinstance(n, bool) or int(n) != n or n < 1:
+        raise ValueError(f"n must be a positive integer, got {n!r}")
+    n = int(n)
+    root = isqrt(12 * n - 3)
+    return 3 * n - (root if root * root == 12 * n - 3 else root + 1)
+
+
+def complete_hexagon_sides(n: int) -> tuple[int, int, int] | None:
+    """Sides ``(a, b, c)``, in sites and differing by at most one, of the complete hexagon of
+    ``n`` sites (sides a, b, c, a, b, c around it; ``n = ab + bc + ca - a - b - c + 1``), or None
+    when ``n`` is not such a number: 3k^2 - 3k + 1, 3k^2 - k, 3k^2 + k (200 = sides 8, 9, 9).
+
+    One more site adds at most two bonds to ``most_bonds`` at these ``n`` (they are the largest
+    with their minimal perimeter), and the complete hexagon is the only outline, up to the
+    lattice's rotations and reflections, that holds ``most_bonds(n)`` bonds (tests/test_topology.py
+    enumerates every shape of 7 and 10 sites); outlines with one bond fewer are many. A Monte
+    Carlo run whose ground state is this hexagon must find that one shape."""
+    if isinstance(n, bool) or int(n) != n or n < 1:
+        raise ValueError(f"n must be a positive integer, got {n!r}")
+    n = int(n)
+    k = max(1, round(np.sqrt(n / 3)))
+    for a in (k - 1, k, k + 1):
+        for b, c in ((a, a), (a, a + 1), (a + 1, a + 1)):
+            if a >= 1 and a * b + b * c + c * a - a - b - c + 1 == n:
+                return a, b, c
+    return None
 
 
 def gyration_dimensions(sites, tiling: str = "hexagon") -> tuple[float, float]:

@@ -411,3 +411,73 @@ def test_stadium_rejects_bad_n(bad):
 def test_stadium_rejects_bad_segment(bad):
     with pytest.raises(ValueError, match="segment"):
         T.stadium_sites(10, bad)
+
+
+def _all_shapes(n):
+    """Every fixed polyhex of n sites (each once, translated to a canonical origin), by
+    Redelmeier's enumeration over the kernel's neighbour table: an independent census."""
+    offsets = [tuple(d) for d in T.neighbour_sites((0, 0))]
+    origin = (0, 0)
+    def allowed(site):  # sites "after" the origin, so every shape is grown from its least site once
+        return site[1] > 0 or (site[1] == 0 and site[0] >= 0)
+    shapes = []
+    def grow(shape, untried, seen):
+        while untried:
+            site = untried.pop()
+            shape.append(site)
+            if len(shape) == n:
+                shapes.append(frozenset(shape))
+            else:
+                new = [s for s in ((site[0] + di, site[1] + dj) for di, dj in offsets) if allowed(s) and s not in seen]
+                grow(shape, untried + new, seen | set(new))
+            shape.pop()
+    grow([], [origin], {origin})
+    return shapes
+
+
+def _images(sites):
+    """The 12 images of a shape under the lattice's rotations and reflections, each translated so
+    that its least site (by row, then column) is the origin."""
+    xy = T.site_positions(np.asarray(sites))
+    basis = np.column_stack([T.site_positions(np.array([[1, 0]]))[0], T.site_positions(np.array([[0, 1]]))[0]])
+    out = set()
+    for k in range(6):
+        c, s = np.cos(k * np.pi / 3), np.sin(k * np.pi / 3)
+        for flip in (1, -1):
+            turned = (np.array([[c, -s], [s, c]]) @ (xy * [1, flip]).T)
+            ij = np.rint(np.linalg.solve(basis, turned).T).astype(int)
+            least = min(map(tuple, ij[:, ::-1]))[::-1]
+            out.add(frozenset((int(i - least[0]), int(j - least[1])) for i, j in ij))
+    return out
+
+
+@pytest.mark.parametrize("n", [7, 9, 10])
+def test_the_complete_hexagon_is_the_only_outline_with_the_most_bonds(n):
+    """Every shape of n sites, enumerated: the most bonds any holds is most_bonds(n); at the
+    complete-hexagon numbers 7 and 10 (sides 2, 2, 2 and 2, 2, 3) every shape that holds them is an
+    image of one shape, the faceted compact aggregate; at 9, not a complete hexagon, several are."""
+    shapes = _all_shapes(n)
+    assert len(shapes) == {7: 3652, 9: 77359, 10: 362671}[n]  # fixed polyhexes (OEIS A001207)
+    bonds = [sum((i + di, j + dj) in s for i, j in s for di, dj in ((1, 0), (0, 1), (-1, 1))) for s in shapes]
+    assert max(bonds) == T.most_bonds(n)
+    best = {s for s, b in zip(shapes, bonds) if b == T.most_bonds(n)}
+    hexagon = _images(T.stadium_sites(n, faceted=True))
+    if T.complete_hexagon_sides(n) is None:
+        assert len(best) > len(hexagon)
+    else:
+        assert best == hexagon
+
+
+def test_complete_hexagon_numbers_are_the_largest_of_their_perimeter():
+    """Those n are where one more site adds two bonds, not three (the minimal perimeter grows),
+    with sides that differ by one at most; n = 200 is one (sides 8, 9, 9, 551 bonds)."""
+    found = [n for n in range(2, 3000) if T.complete_hexagon_sides(n)]
+    assert all(T.most_bonds(n + 1) - T.most_bonds(n) == 2 for n in found)
+    assert len(found) == len(set(found)) and len(found) >= 90
+    assert T.complete_hexagon_sides(200) == (8, 9, 9) and T.most_bonds(200) == 551
+    assert T.complete_hexagon_sides(201) is None
+    for bad in (0, -3, 2.5, True):
+        with pytest.raises(ValueError, match="n must be"):
+            T.complete_hexagon_sides(bad)
+        with pytest.raises(ValueError, match="n must be"):
+            T.most_bonds(bad)
