@@ -121,7 +121,7 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
                      method="lbfgs", tol=1e-3, cluster_moves=0.0, cluster_link=1.0, bonded_moves=0.0, surface_moves=0.0,
                      delayed_acceptance=True, quench_sweeps=50,
                      threads=None, state=None, checkpoint=None, checkpoint_interval=60.0, progress=True,
-                     record_sites=False, max_iter=100_000) -> ReplicaExchangeResult:
+                     record_sites=False, max_iter=100_000, initial_sites=None) -> ReplicaExchangeResult:
     """Replica exchange of ``n`` particles in a periodic ``box x box`` lattice (module docstring).
 
     Parameters
@@ -150,6 +150,10 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
     checkpoint : path or None
         File to resume from if it exists (same parameters) and to save the state to every
         ``checkpoint_interval`` seconds, on interruption and at the end (atomically).
+    initial_sites : (n, 2) array (or (n, 3) with a sublattice) or None
+        Start every replica from these sites (as ``BoxState.sites``: a finished anneal's
+        configuration, to sample around it at low temperature) instead of particles at random.
+        Ignored when resuming. Part of the checkpoint's parameters.
     record_sites : bool
         Keep, in the result's ``params["sites_by_slot"]``, the sites at every temperature after
         every round (for tests; memory ``rounds * K * n`` integers).
@@ -194,6 +198,12 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
     signature = dict(particle=_particle_signature(particle), g=g, box=box, n=n, seed=seed,
                      temperatures=hashlib.sha256(T.tobytes()).hexdigest(), exchange_every=exchange_every,
                      **{k: v for k, v in options.items() if k != "tol"}, tol=float(tol))
+    if initial_sites is not None:
+        try:
+            initial_sites = np.ascontiguousarray(initial_sites, dtype=np.int32)
+        except (TypeError, ValueError):
+            raise ValueError(f"initial_sites must be an integer array of sites, got {initial_sites!r}") from None
+        signature["initial_sites"] = hashlib.sha256(initial_sites.tobytes()).hexdigest()
     replica_seeds, swap_rng = _streams(seed, K)
     chains = [_kernel.MonteCarlo(model, g, box, n, s, **options) for s in replica_seeds]
 
@@ -212,6 +222,12 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
         swap_rng.bit_generator.state = state.swap_rng
         resumed = True
     else:
+        if initial_sites is not None:
+            try:
+                for mc in chains:
+                    mc.place(initial_sites)
+            except ValueError as e:
+                raise ValueError(f"initial_sites: {str(e).removeprefix('sites: ')}") from None
         state = ReplicaState(replicas=[], slot_of_replica=np.arange(K), swap_rng=swap_rng.bit_generator.state,
                              swaps_attempted=np.zeros(K - 1, np.int64), swaps_accepted=np.zeros(K - 1, np.int64),
                              last_end=np.full(K, -1))

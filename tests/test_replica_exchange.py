@@ -36,14 +36,18 @@ def exact_energies(particle, g, box, n):
     return {s: k for k, s in enumerate(states)}, np.array(energies)
 
 
-@pytest.mark.parametrize("box,n,cluster_moves,cluster_link,surface_moves",
-                         [(3, 3, 0.0, 1.0, 0.0), (4, 3, 0.5, 1.0, 0.0), (4, 3, 0.5, 0.5, 0.0), (4, 3, 0.2, 0.5, 0.5)])
-def test_every_temperature_samples_its_boltzmann_weights(particle, g, box, n, cluster_moves, cluster_link, surface_moves):
+@pytest.mark.parametrize("box,n,cluster_moves,cluster_link,surface_moves,initial_sites",
+                         [(3, 3, 0.0, 1.0, 0.0, None), (4, 3, 0.5, 1.0, 0.0, None), (4, 3, 0.5, 0.5, 0.0, None),
+                          (4, 3, 0.2, 0.5, 0.5, None), (4, 3, 0.2, 0.5, 0.5, [(0, 0), (1, 0), (0, 1)])])
+def test_every_temperature_samples_its_boltzmann_weights(particle, g, box, n, cluster_moves, cluster_link, surface_moves,
+                                                          initial_sites):
+    # The last case starts every replica from the same compact triangle (the workflow's exchange
+    # after an anneal): the chains still forget it and sample the same weights.
     T = np.array([0.25, 0.5, 1.0]) * g
     rounds = 40_000
     r = replica_exchange(particle, g, T, box=box, n=n, rounds=rounds, exchange_every=5, seed=box + n, threads=1,
                          method="lbfgs", tol=1e-6, cluster_moves=cluster_moves, cluster_link=cluster_link, quench_sweeps=0,
-                         surface_moves=surface_moves, progress=False,
+                         surface_moves=surface_moves, progress=False, initial_sites=initial_sites,
                          record_sites=True)
     assert np.all(r.swap_acceptance > 0.2) and r.round_trips > 100  # the ladder is really used
     index, E = exact_energies(particle, g, box, n)
@@ -97,7 +101,30 @@ def test_quench_ends_in_a_local_minimum_of_the_coldest_configuration(particle, g
     assert mc.box_energy(True) == pytest.approx(r.energy, rel=1e-9)
 
 
+def test_initial_sites_start_every_replica_and_enter_the_checkpoint(particle, g, tmp_path):
+    rng = np.random.default_rng(3)
+    cells = rng.choice(100, 20, replace=False)
+    sites = np.column_stack([cells % 10, cells // 10])
+    kw = dict(box=10, n=20, seed=4, method="linear", progress=False, temperatures=geometric_temperatures(0.2 * g, g, 3))
+    mc = _kernel.MonteCarlo(particle._kernel_model, g, 10, 20, 0, method="linear")
+    mc.place(sites)
+    start = mc.box_energy(True)
+    r = replica_exchange(particle, g, rounds=0, quench_sweeps=0, initial_sites=sites, **kw)
+    assert sorted(map(tuple, r.sites.tolist())) == sorted(map(tuple, sites.tolist()))
+    assert r.energy == pytest.approx(start, rel=1e-9)
+    assert all(np.array_equal(np.sort(rep["particles"], axis=0), np.sort(sites, axis=0)) for rep in r.state.replicas)
+    # A descent from those sites never ends above them.
+    assert replica_exchange(particle, g, rounds=0, quench_sweeps=20, initial_sites=sites, **kw).energy <= start + 1e-12
+    path = tmp_path / "pt.pkl"
+    replica_exchange(particle, g, rounds=5, checkpoint=path, initial_sites=sites, **kw)
+    with pytest.raises(ValueError, match="different parameters"):
+        replica_exchange(particle, g, rounds=10, checkpoint=path, initial_sites=sites[::-1], **kw)
+
+
 @pytest.mark.parametrize("kwargs, message", [
+    ({"initial_sites": [(0, 0), (1, 0), (2, 0)]}, "initial_sites: expected 4 sites"),
+    ({"initial_sites": [(0, 0), (1, 0), (2, 0), (0, 5)]}, "initial_sites: .* occupied twice"),
+    ({"initial_sites": "corner"}, "initial_sites"),
     ({"temperatures": [1.0]}, "temperatures"),
     ({"temperatures": [1.0, 0.5]}, "temperatures"),
     ({"temperatures": [0.0, 1.0]}, "temperatures"),

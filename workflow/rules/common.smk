@@ -10,6 +10,21 @@ def per_box(section, key):
     return lambda w: section[key if w.kind.startswith("sparse") else f"{w.kind.split('_')[0]}_{key}"]
 
 
+def exchange_after_anneal(section):
+    """A Monte Carlo run's low-temperature replica exchange after its anneal (montecarlo_run.py):
+    its rounds for the run's box kind (per_box) and, only when there are any, the ladder's
+    temperatures (in units of g) and size, so that a run without the stage never reads them."""
+    rounds = per_box(section, "exchange_rounds")
+
+    def params(w):
+        if not rounds(w):
+            return dict(rounds=0)
+        return dict(rounds=rounds(w), temperatures=section["exchange_temperatures"],
+                    replicas=section["exchange_replicas"])
+
+    return params
+
+
 def figure_png(name):
     """A figure's PNG, marked for `snakemake --report` with its caption (workflow/report/) under
     the part of the paper it belongs to."""

@@ -17,6 +17,7 @@ rule montecarlo_run:
         sweeps=per_box(MC, "sweeps"),
         bonded_moves=per_box(MC, "bonded_moves"),
         surface_moves=per_box(MC, "surface_moves"),
+        exchange=exchange_after_anneal(MC),
         **pick(MC, "ell", "eps", "tol", "cluster_moves", "cluster_link"),
     wildcard_constraints:
         kind="sparse|dense|large|sparse_supplement|dense_supplement",

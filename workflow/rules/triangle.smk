@@ -50,6 +50,7 @@ rule triangle_montecarlo_run:
         box=per_box(TRIANGLE_MC, "box"),
         method=per_box(TRIANGLE_MC, "method"),
         sweeps=per_box(TRIANGLE_MC, "sweeps"),
+        exchange={"rounds": 0},
         **pick(TRIANGLE_MC, "ell", "eps", "tol", "cluster_moves", "cluster_link", "bonded_moves", "surface_moves"),
     wildcard_constraints:
         kind="sparse|dense",

@@ -6,12 +6,21 @@ sets grown with link probability cluster_link; Metropolis-Hastings on the topolo
 cluster energies, temperature lowered linearly from g to 0. The run's kind picks the box: sparse (n, box), dense
 (dense_*: the bottom row of Fig. 3b) or large (large_*: figX_mc_finite_size); its convention how
 Gamma maps to g (continuum.BINDING_CONVENTIONS). Gamma_measured is the run's Gamma in the
-measured convention (gamma = g), where the ansatz and continuum diagrams are drawn."""
+measured convention (gamma = g), where the ansatz and continuum diagrams are drawn.
+
+With exchange["rounds"] > 0 the anneal's final configuration then seeds every replica of a
+low-temperature replica exchange (pyfrustrate.replica_exchange, exchange["replicas"] temperatures
+from exchange["temperatures"][0] g to [1] g, geometric, the same moves): the
+hot replicas find the outline with the most bonds, which the linear schedule leaves one bond
+short where it is favoured only below ~0.09 g (README), and the swaps carry it down. The run's
+result is then the coldest replica after its T = 0 descent; the anneal's own energy and bonds
+are kept as anneal_energy and anneal_bonds."""
 import os
 
 import numpy as np
 
 from pyfrustrate import anneal, continuum
+from pyfrustrate.replica_exchange import geometric_temperatures, replica_exchange
 from pyfrustrate.io import logging_to, save_npz, sigterm_raises
 from pyfrustrate.provenance import for_job
 from pyfrustrate.particles import particle_class
@@ -35,13 +44,34 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
                bonded_moves=bonded_moves, surface_moves=surface_moves)
     if r.resumed:
         print(f"resumed from checkpoint {checkpoint}")
-    sizes = sorted((len(c) for c in r.clusters()), reverse=True)
-    print(f"nu={p.nu} Gamma={p.Gamma} n={n} box={box} seed={p.seed} method={method} cluster_moves={cluster_moves:g} cluster_link={cluster_link:g} bonded_moves={bonded_moves:g} surface_moves={surface_moves:g}: energy {r.energy:.6g}, "
+    final, exchange, exchange_checkpoint = r, {}, None
+    rounds = p.exchange["rounds"]
+    if rounds:
+        (T_low, T_high), replicas = p.exchange["temperatures"], p.exchange["replicas"]
+        ladder = geometric_temperatures(T_low * g, T_high * g, replicas)
+        exchange_checkpoint = (f"{checkpoint[:-4]}_exchange{rounds}_K{replicas}"
+                               f"_T{T_low:g}-{T_high:g}.pkl")
+        x = replica_exchange(particle, g, ladder, box=box, n=n, rounds=rounds, seed=p.seed,
+                             method=method, tol=p.tol, cluster_moves=cluster_moves, cluster_link=cluster_link,
+                             bonded_moves=bonded_moves, surface_moves=surface_moves, initial_sites=r.sites,
+                             checkpoint=exchange_checkpoint, progress=True)
+        print(f"replica exchange after the anneal, {replicas} temperatures {T_low:g}-{T_high:g} g, "
+              f"{rounds} rounds: energy {r.energy:.6g} -> {x.energy:.6g}, bonds {r.bonds} -> "
+              f"{x.bonds}; swap acceptance {', '.join(f'{a:.2f}' for a in x.swap_acceptance)}; "
+              f"{x.round_trips} round trips; {x.elapsed:.1f} s")
+        exchange = dict(exchange_rounds=rounds, exchange_temperatures=ladder,
+                        exchange_swap_acceptance=x.swap_acceptance, exchange_round_trips=x.round_trips,
+                        exchange_elapsed=x.elapsed, anneal_energy=r.energy, anneal_bonds=r.bonds)
+        final = x
+    sizes = sorted((len(c) for c in final.clusters()), reverse=True)
+    print(f"nu={p.nu} Gamma={p.Gamma} n={n} box={box} seed={p.seed} method={method} cluster_moves={cluster_moves:g} cluster_link={cluster_link:g} bonded_moves={bonded_moves:g} surface_moves={surface_moves:g}: energy {final.energy:.6g}, "
           f"acceptance {r.acceptance:.3g}, cache hit rate {r.cache_hit_rate:.3f}, {r.elapsed:.1f} s; clusters {sizes[:8]}")
-    save_npz(snakemake.output[0], provenance=for_job(snakemake), sites=r.sites, box=box, n=n, nu=p.nu, Gamma=p.Gamma, ell=p.ell,  # noqa: F821
-             seed=p.seed, g=g, energy=r.energy, energy_trace=r.energy_trace, temperature=r.temperature,
+    save_npz(snakemake.output[0], provenance=for_job(snakemake), sites=final.sites, box=box, n=n, nu=p.nu, Gamma=p.Gamma, ell=p.ell,  # noqa: F821
+             seed=p.seed, g=g, energy=final.energy, bonds=final.bonds, energy_trace=r.energy_trace, temperature=r.temperature,
              steps=r.steps, acceptance=r.acceptance, stage_acceptance=r.stage_acceptance, method=method,
              cluster_sizes=np.array(sizes), cluster_moves=cluster_moves,
              cluster_link=cluster_link, bonded_moves=bonded_moves, surface_moves=surface_moves, kind=p.kind, tiling=p.tiling,
-             convention=p.convention, Gamma_measured=Gamma_measured)
-    os.remove(checkpoint)  # the result is saved: nothing left to resume
+             convention=p.convention, Gamma_measured=Gamma_measured, **exchange)
+    for path in (checkpoint, exchange_checkpoint):  # the result is saved: nothing left to resume
+        if path is not None:
+            os.remove(path)
