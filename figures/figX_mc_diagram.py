@@ -65,6 +65,15 @@ def hollow_markers_explained(mc, n):
     return lines
 
 
+def protocol(mc, n):
+    """How the runs were made: annealing, then (montecarlo_run.py) low-temperature replica exchange."""
+    rounds = sorted(set(int(r) for r in mc.get("exchange_rounds", [0])))
+    if rounds == [0]:
+        return f"Annealing runs of {n} particles"
+    return (f"Annealing runs of {n} particles, then {'/'.join(map(str, rounds))} rounds of replica exchange at low "
+            "temperature from the final state")
+
+
 def main(mc_path, diagram_path, continuum_path, outputs):
     mc = load_npz(mc_path)
     n = int(mc["n"][0])
@@ -95,7 +104,7 @@ def main(mc_path, diagram_path, continuum_path, outputs):
         "predicted ground state (best of single aggregates, a wrapping fibre,",
         f"several aggregates, the gas); {same} end in that ground state's structure (read from their clusters: "
         "ground_states.structure).",
-        f"Annealing runs of {n} particles; numbers: size of the largest aggregate. A box this small holds neither a bulk "
+        f"{protocol(mc, n)}; numbers: size of the largest aggregate. A box this small holds neither a bulk "
         "nor a fibre wider than it is long:",
         "compare the runs with the band (the best single aggregate of the same particles), not only with the "
         "infinite-system diagram.",

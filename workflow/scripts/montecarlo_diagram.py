@@ -6,8 +6,8 @@ the box's predicted ground state (the best of ground_states.box_candidates: sing
 wrapping fibre, several aggregates, the gas) with that ground state's family, and the run's own
 structure in those terms (ground_states.structure, from its clusters), and how many bonds it
 holds fewer than that ground state (one bond is worth g, given in bulk particle energies) and
-how many that ground state holds. The
-same for the scale scans (rule montecarlo_scale), whose runs differ by seed too."""
+how many that ground state holds, and the rounds of low-temperature replica exchange that followed
+each anneal (montecarlo_run.py; 0: none). The same for the scale scans (rule montecarlo_scale), whose runs differ by seed too."""
 import numpy as np
 
 from pyfrustrate.ansatz import FiniteAggregates, energy_above_best_single
@@ -46,16 +46,17 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         found = structure(r["sites"], int(r["box"]))
         ground_bonds = int(candidates.bonds[candidates.best(g)])
         bond_deficit = ground_bonds - box_bonds(r["sites"], int(r["box"]))
+        exchange_rounds = int(r.get("exchange_rounds", 0))  # runs made before the stage have none
         rows.append((nu, Gamma, int(r["seed"]), kind, size, n, gap, single, gap_ground, ground, found, bond_deficit,
-                     g / e_bulk, ground_bonds))
+                     g / e_bulk, ground_bonds, exchange_rounds))
         print(f"nu={nu:g} Gamma={Gamma:g} seed {int(r['seed'])}: {kind} (largest cluster {size} of {n}); "
               f"{gap:+.1f} bulk particle energies above the best single aggregate ({single}), "
               f"{gap_ground:+.1f} above the box's ground state ({ground}); the run's structure: {found}; "
               f"{bond_deficit} bonds fewer than the ground state (a bond: {g / e_bulk:.2f} bulk particle energies)")
-    nu, Gamma, seed, kind, size, n, gap, single, gap_ground, ground, found, bond_deficit, bond_energy, ground_bonds = (
-        np.array(c) for c in zip(*rows))
+    (nu, Gamma, seed, kind, size, n, gap, single, gap_ground, ground, found, bond_deficit, bond_energy, ground_bonds,
+     exchange_rounds) = (np.array(c) for c in zip(*rows))
     save_npz(snakemake.output[0], provenance=for_job(snakemake), nu=nu, Gamma=Gamma, seed=seed, kind=kind.astype(str), size=size, n=n,  # noqa: F821
              gap=gap, single_kind=single.astype(str), gap_ground=gap_ground, ground_family=ground.astype(str),
              structure=found.astype(str), bond_deficit=bond_deficit, bond_energy=bond_energy,
-             ground_bonds=ground_bonds, elongation_threshold=ELONGATION_THRESHOLD,
+             ground_bonds=ground_bonds, exchange_rounds=exchange_rounds, elongation_threshold=ELONGATION_THRESHOLD,
              finite_nu=np.array(finite_nu), finite_Gamma=finite_Gamma, finite_elongated=np.array(finite_elongated))
