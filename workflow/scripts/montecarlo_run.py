@@ -39,9 +39,10 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
     # interrupted run of the same configuration resumes.
     checkpoint = (f"{p.checkpoint_stem}_{n}in{box}_{sweeps}sweeps_{method}_tol{p.tol:g}_eps{p.eps:g}"
                   f"_cm{cluster_moves:g}_link{cluster_link:g}_bonded{bonded_moves:g}_surface{surface_moves:g}.pkl")
-    r = anneal(particle, g, box=box, n=n, steps=n * sweeps, seed=p.seed, method=method, tol=p.tol,
-               checkpoint=checkpoint, progress=True, cluster_moves=cluster_moves, cluster_link=cluster_link,
-               bonded_moves=bonded_moves, surface_moves=surface_moves)
+    # One chain for both stages: the anneal and the exchange after it make the same moves.
+    chain = dict(box=box, n=n, seed=p.seed, method=method, tol=p.tol, cluster_moves=cluster_moves,
+                 cluster_link=cluster_link, bonded_moves=bonded_moves, surface_moves=surface_moves, progress=True)
+    r = anneal(particle, g, steps=n * sweeps, checkpoint=checkpoint, **chain)
     if r.resumed:
         print(f"resumed from checkpoint {checkpoint}")
     final, exchange, exchange_checkpoint = r, {}, None
@@ -51,10 +52,8 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
         ladder = geometric_temperatures(T_low * g, T_high * g, replicas)
         exchange_checkpoint = (f"{checkpoint[:-4]}_exchange{rounds}_K{replicas}"
                                f"_T{T_low:g}-{T_high:g}.pkl")
-        x = replica_exchange(particle, g, ladder, box=box, n=n, rounds=rounds, seed=p.seed,
-                             method=method, tol=p.tol, cluster_moves=cluster_moves, cluster_link=cluster_link,
-                             bonded_moves=bonded_moves, surface_moves=surface_moves, initial_sites=r.sites,
-                             checkpoint=exchange_checkpoint, progress=True)
+        x = replica_exchange(particle, g, ladder, rounds=rounds, initial_sites=r.sites, checkpoint=exchange_checkpoint,
+                             **chain)
         print(f"replica exchange after the anneal, {replicas} temperatures {T_low:g}-{T_high:g} g, "
               f"{rounds} rounds: energy {r.energy:.6g} -> {x.energy:.6g}, bonds {r.bonds} -> "
               f"{x.bonds}; swap acceptance {', '.join(f'{a:.2f}' for a in x.swap_acceptance)}; "
