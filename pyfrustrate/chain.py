@@ -17,13 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _kernel
-
-
-def _particles(n) -> int:
-    """``n`` as a positive int, or ValueError: int() would silently truncate 2.5 to 2."""
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise ValueError(f"n must be a positive integer, got {n!r}")
-    return int(n)
+from ._checks import integer
 
 
 @dataclass(frozen=True)
@@ -71,7 +65,7 @@ def relax(n: int, k: float = 1.0, kc: float = 0.01, eps: float = 0.01, *, tol: f
     """
     if not (tol > 0):
         raise ValueError(f"tol must be positive, got {tol!r}")
-    n = _particles(n)
+    n = integer("n", n, 1)
     out = _kernel.chain_relax(int(n), float(k), float(kc), float(eps), float(tol) * k * eps, int(max_iter))
     x = np.asarray(out["x"])
     m = int(n) + 1
@@ -82,7 +76,7 @@ def relax(n: int, k: float = 1.0, kc: float = 0.01, eps: float = 0.01, *, tol: f
 def energy(n: int, k: float, kc: float, eps: float, x_up, x_down) -> tuple[float, np.ndarray]:
     """Energy of Eq. (1) and its gradient with respect to ``(x_up, x_down)``, shape (2 (n + 1),)."""
     x = np.concatenate([np.asarray(x_up, float), np.asarray(x_down, float)])
-    return _kernel.chain_energy(_particles(n), float(k), float(kc), float(eps), x)
+    return _kernel.chain_energy(integer("n", n, 1), float(k), float(kc), float(eps), x)
 
 
 def analytic_shift(n: int, k: float, kc: float, eps: float) -> np.ndarray:
@@ -96,7 +90,7 @@ def analytic_shift(n: int, k: float, kc: float, eps: float) -> np.ndarray:
     """
     from .continuum import _checked, chain_ell
 
-    n = _particles(n)
+    n = integer("n", n, 1)
     k = float(_checked("k", k, lo=0.0, lo_open=True))
     kc = float(_checked("kc", kc, lo=0.0))
     eps = float(_checked("eps", eps, lo=0.0, hi=1.0, lo_open=True, hi_open=True))

@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from . import ansatz, topology
+from ._checks import integer
 from .relaxation import relax
 
 FAMILIES = ("single", "wrapping_fiber", "aggregates", "gas")
@@ -134,9 +135,7 @@ def aggregate_counts(n: int, max_aggregates: int | None = None) -> list[int]:
     ``m`` from 2 to ``max_aggregates`` if given, else every ``m`` to 16 and then counts 1.25x apart
     up to ``n // 7`` (aggregates of at least seven particles, one ring around a particle)."""
     if max_aggregates is not None:
-        if isinstance(max_aggregates, bool) or int(max_aggregates) != max_aggregates or max_aggregates < 1:
-            raise ValueError(f"max_aggregates must be a positive integer or None, got {max_aggregates!r}")
-        return list(range(2, int(max_aggregates) + 1))
+        return list(range(2, integer("max_aggregates", max_aggregates, 1) + 1))
     counts, m = list(range(2, min(16, n // 2) + 1)), 16.0
     while round(m * 1.25) <= n // 7:
         m *= 1.25
@@ -152,11 +151,7 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
     aggregates to counts 2 .. max_aggregates (default: ``aggregate_counts(n)``). Hexagon tiling."""
     if getattr(particle, "tiling", "hexagon") != "hexagon":
         raise ValueError("particle: box ground states are built for hexagon tilings only")
-    if isinstance(n, bool) or int(n) != n or n < 1:
-        raise ValueError(f"n must be a positive integer, got {n!r}")
-    if isinstance(box, bool) or int(box) != box or box < 2:
-        raise ValueError(f"box must be an integer >= 2, got {box!r}")
-    n, box = int(n), int(box)
+    n, box = integer("n", n, 1), integer("box", box, 2)
     if n >= box * box:
         raise ValueError(f"n must be smaller than the box's {box * box} sites, got {n}")
     counts = aggregate_counts(n, max_aggregates)  # checks max_aggregates before any relaxation

@@ -56,11 +56,11 @@ import pickle
 import secrets
 import time
 from dataclasses import dataclass, field
-from numbers import Integral
 
 import numpy as np
 
 from . import _kernel
+from ._checks import integer, non_negative, probability
 from .relaxation import METHODS
 from .io import atomic_path
 from .topology import neighbour_sites, site_columns, site_positions, tiling_facts
@@ -185,47 +185,15 @@ class AnnealResult(BoxState):
 
 
 # ---------------------------------------------------------------------------------------------
-# Validation and schedule
+# Schedule
 # ---------------------------------------------------------------------------------------------
-
-def _integer(name, value, lo, hi=None):
-    if isinstance(value, bool) or not isinstance(value, Integral):
-        raise ValueError(f"{name} must be an integer, got {value!r}")
-    value = int(value)
-    if value < lo or (hi is not None and value > hi):
-        bound = f">= {lo}" if hi is None else f"in [{lo}, {hi}]"
-        raise ValueError(f"{name} must be {bound}, got {value}")
-    return value
-
-
-def _non_negative(name, value):
-    """``value`` as a finite float >= 0 (temperatures, binding energy), else ValueError naming it."""
-    try:
-        t = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(t) or t < 0:
-        raise ValueError(f"{name} must be non-negative and finite, got {value!r}")
-    return t
-
-
-def _probability(name, value):
-    """``value`` as a float in [0, 1], else ValueError naming it."""
-    try:
-        p = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number in [0, 1], got {value!r}") from None
-    if not 0.0 <= p <= 1.0:  # NaN fails too
-        raise ValueError(f"{name} must lie in [0, 1], got {value!r}")
-    return p
-
 
 def _plan(steps, schedule, T0, T_end, record_every):
     """Record blocks: temperatures (B,), attempted moves (B,), stage index (B,), stage count."""
     if isinstance(schedule, str) or callable(schedule):
         if steps is None:
             raise ValueError("steps must be given with a continuous schedule")
-        steps = _integer("steps", steps, 1)
+        steps = integer("steps", steps, 1)
         n_blocks = -(-steps // record_every)
         block_steps = np.full(n_blocks, record_every, dtype=np.int64)
         block_steps[-1] = steps - record_every * (n_blocks - 1)
@@ -236,7 +204,7 @@ def _plan(steps, schedule, T0, T_end, record_every):
             elif schedule == "geometric":
                 if T_end is None:
                     T_end = 1e-3 * T0
-                T_end = _non_negative("T_end", T_end)
+                T_end = non_negative("T_end", T_end)
                 if not (0 < T_end <= T0):
                     raise ValueError(f"T_end must lie in (0, T0] for a geometric schedule, got {T_end!r}")
                 xg = np.arange(n_blocks) / max(n_blocks - 2, 1)
@@ -246,7 +214,7 @@ def _plan(steps, schedule, T0, T_end, record_every):
                 raise ValueError(f"schedule must be one of {SCHEDULES}, a callable or a sequence of (T, steps) "
                                  f"stages, got {schedule!r}")
         else:
-            temps = np.array([_non_negative("schedule(x)", schedule(float(xi))) for xi in x])
+            temps = np.array([non_negative("schedule(x)", schedule(float(xi))) for xi in x])
         stage = np.minimum(_CONTINUOUS_STAGES * np.arange(n_blocks) // max(n_blocks, 1), _CONTINUOUS_STAGES - 1)
         return temps.astype(float), block_steps, stage, _CONTINUOUS_STAGES
     try:
@@ -258,15 +226,15 @@ def _plan(steps, schedule, T0, T_end, record_every):
         raise ValueError("schedule: the sequence of stages is empty")
     temps, block_steps, stage_index = [], [], []
     for k, (t, m) in enumerate(stages):
-        t = _non_negative(f"schedule: temperature of stage {k}", t)
-        m = _integer(f"schedule: steps of stage {k}", m, 1)
+        t = non_negative(f"schedule: temperature of stage {k}", t)
+        m = integer(f"schedule: steps of stage {k}", m, 1)
         full, rest = divmod(m, record_every)
         chunks = [record_every] * full + ([rest] if rest else [])
         temps += [t] * len(chunks)
         block_steps += chunks
         stage_index += [k] * len(chunks)
     total = int(sum(block_steps))
-    if steps is not None and _integer("steps", steps, 1) != total:
+    if steps is not None and integer("steps", steps, 1) != total:
         raise ValueError(f"steps ({steps}) disagrees with the stages of schedule (total {total}); leave steps=None")
     return np.array(temps, float), np.array(block_steps, np.int64), np.array(stage_index), len(stages)
 
@@ -460,30 +428,30 @@ def anneal(particle, g, box=60, n=200, steps=None, schedule="linear", seed=None,
     if model is None or not hasattr(particle, "tiling"):
         raise ValueError(f"particle must be a particle model (Hexagon, RandomHexagon, Triangle), got {particle!r}")
     tiling = tiling_facts(particle.tiling)
-    box = _integer("box", box, 2, 30000)
-    n = _integer("n", n, 1)
+    box = integer("box", box, 2, 30000)
+    n = integer("n", n, 1)
     n_sites = box * box * tiling["sublattices"]
     if n >= n_sites:
         raise ValueError(f"n must be smaller than the box's {n_sites} sites (a move needs an empty site), got {n}")
-    g = _non_negative("g", g)
+    g = non_negative("g", g)
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
         raise ValueError(f"tol must be positive, got {tol!r}")
     if seed is None:
         seed = secrets.randbits(63)
-    seed = _integer("seed", seed, 0, 2**64 - 1)
-    record_every = n if record_every is None else _integer("record_every", record_every, 1)
+    seed = integer("seed", seed, 0, 2**64 - 1)
+    record_every = n if record_every is None else integer("record_every", record_every, 1)
     if T0 is None:
         T0 = g if g > 0 else particle.bulk_energy_per_particle
-    T0 = _non_negative("T0", T0)
+    T0 = non_negative("T0", T0)
     if steps is None and (isinstance(schedule, str) or callable(schedule)):
         steps = DEFAULT_SWEEPS * n
-    max_iter = _integer("max_iter", max_iter, 1)
-    cluster_moves = _probability("cluster_moves", cluster_moves)
-    cluster_link = _probability("cluster_link", cluster_link)
-    bonded_moves = _probability("bonded_moves", bonded_moves)  # the kernel refuses 1 (not ergodic)
-    surface_moves = _probability("surface_moves", surface_moves)  # ... and 1 (a gas particle would be stuck)
+    max_iter = integer("max_iter", max_iter, 1)
+    cluster_moves = probability("cluster_moves", cluster_moves)
+    cluster_link = probability("cluster_link", cluster_link)
+    bonded_moves = probability("bonded_moves", bonded_moves)  # the kernel refuses 1 (not ergodic)
+    surface_moves = probability("surface_moves", surface_moves)  # ... and 1 (a gas particle would be stuck)
     temps, block_steps, stage_of_block, n_stages = _plan(steps, schedule, T0, T_end, record_every)
     total_steps = int(block_steps.sum())
     cum_steps = np.cumsum(block_steps)
@@ -619,7 +587,7 @@ def clusters(sites, box, tiling="hexagon") -> list[tuple[np.ndarray, int]]:
     lattice step apart), ``rank`` is 0 for a finite cluster, 1 if it wraps around the box in
     one direction, 2 in two.
     """
-    box = _integer("box", box, 1)
+    box = integer("box", box, 1)
     sites = _box_sites(sites, box, tiling)
 
     def wrapped(v):

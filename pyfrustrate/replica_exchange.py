@@ -38,8 +38,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _kernel
-from .montecarlo import (BoxState, _check_signature, _integer, _non_negative, _particle_signature, _probability,
-                         _write_atomically)
+from ._checks import integer, non_negative, probability
+from .montecarlo import BoxState, _check_signature, _particle_signature, _write_atomically
 from .relaxation import METHODS
 from .topology import tiling_facts
 
@@ -53,7 +53,7 @@ def geometric_temperatures(T_min: float, T_max: float, count: int) -> np.ndarray
     ladder when the heat capacity varies slowly (equal swap rates between neighbours)."""
     if not (math.isfinite(T_min) and math.isfinite(T_max) and 0 < T_min < T_max):
         raise ValueError(f"temperatures: need 0 < T_min < T_max, finite, got T_min={T_min!r}, T_max={T_max!r}")
-    count = _integer("count", count, 2)
+    count = integer("count", count, 2)
     return np.geomspace(T_min, T_max, count)
 
 
@@ -171,30 +171,30 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
         raise ValueError(f"temperatures must be at least two positive, finite, increasing values, got {T.tolist()}")
     K = T.size
     tiling = tiling_facts(particle.tiling)
-    box = _integer("box", box, 2, 30000)
-    n = _integer("n", n, 1)
+    box = integer("box", box, 2, 30000)
+    n = integer("n", n, 1)
     if n >= box * box * tiling["sublattices"]:
         raise ValueError(f"n must be smaller than the box's {box * box * tiling['sublattices']} sites, got {n}")
-    g = _non_negative("g", g)
-    rounds = _integer("rounds", rounds, 0)
-    exchange_every = n if exchange_every is None else _integer("exchange_every", exchange_every, 1)
-    quench_sweeps = _integer("quench_sweeps", quench_sweeps, 0)
+    g = non_negative("g", g)
+    rounds = integer("rounds", rounds, 0)
+    exchange_every = n if exchange_every is None else integer("exchange_every", exchange_every, 1)
+    quench_sweeps = integer("quench_sweeps", quench_sweeps, 0)
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
         raise ValueError(f"tol must be positive, got {tol!r}")
-    threads = min(K, os.cpu_count() or 1) if threads is None else _integer("threads", threads, 1)
+    threads = min(K, os.cpu_count() or 1) if threads is None else integer("threads", threads, 1)
     if seed is None:
         seed = secrets.randbits(63)
-    seed = _integer("seed", seed, 0, 2**63 - 1)
+    seed = integer("seed", seed, 0, 2**63 - 1)
 
     bond_deformation = float(particle.bulk_energy_per_particle) / tiling["bulk_bonds_per_particle"]
-    options = dict(method=method, tol=float(tol) * particle.force_scale, max_iter=_integer("max_iter", max_iter, 1),
+    options = dict(method=method, tol=float(tol) * particle.force_scale, max_iter=integer("max_iter", max_iter, 1),
                    delayed_acceptance=bool(delayed_acceptance), bond_deformation=bond_deformation,
-                   cluster_moves=_probability("cluster_moves", cluster_moves),
-                   cluster_link=_probability("cluster_link", cluster_link),
-                   bonded_moves=_probability("bonded_moves", bonded_moves),
-                   surface_moves=_probability("surface_moves", surface_moves))
+                   cluster_moves=probability("cluster_moves", cluster_moves),
+                   cluster_link=probability("cluster_link", cluster_link),
+                   bonded_moves=probability("bonded_moves", bonded_moves),
+                   surface_moves=probability("surface_moves", surface_moves))
     signature = dict(particle=_particle_signature(particle), g=g, box=box, n=n, seed=seed,
                      temperatures=hashlib.sha256(T.tobytes()).hexdigest(), exchange_every=exchange_every,
                      **{k: v for k, v in options.items() if k != "tol"}, tol=float(tol))

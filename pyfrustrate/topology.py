@@ -51,6 +51,7 @@ from math import gcd, isqrt
 import numpy as np
 
 from . import _kernel
+from ._checks import integer
 
 SQRT3 = np.sqrt(3.0)
 TILINGS = ("hexagon", "triangle")
@@ -255,13 +256,6 @@ def disk(R: int, tiling: str = "hexagon") -> Topology:
                     label=f"disk R={R}", tiling=tiling)
 
 
-def _site_count(n) -> int:
-    """``n`` as a positive int (a number of sites), else ValueError naming it."""
-    if isinstance(n, bool) or int(n) != n or n < 1:
-        raise ValueError(f"n must be a positive integer, got {n!r}")
-    return int(n)
-
-
 def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.ndarray:
     """The ``n`` sites nearest to a segment of length ``segment`` centred on the origin along
     ``a1``: a near-circular aggregate for ``segment = 0``, a rounded strip (a finite cut-0 fibre)
@@ -278,7 +272,7 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.nda
 
     Finite-size predictions use both one-parameter families of single aggregates of exactly
     ``n`` particles (``ansatz.finite_aggregates``)."""
-    n = _site_count(n)
+    n = integer("n", n, 1)
     segment = float(segment)
     if not np.isfinite(segment) or segment < 0:
         raise ValueError(f"segment must be non-negative and finite, got {segment!r}")
@@ -305,7 +299,7 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.nda
 def most_bonds(n: int) -> int:
     """The most nearest-neighbour pairs ``n`` sites of the triangular lattice can share,
     ``3 n - ceil(sqrt(12 n - 3))`` (Harary and Harborth, 1976), in integer arithmetic."""
-    n = _site_count(n)
+    n = integer("n", n, 1)
     root = isqrt(12 * n - 3)
     return 3 * n - (root if root * root == 12 * n - 3 else root + 1)
 
@@ -320,7 +314,7 @@ def complete_hexagon_sides(n: int) -> tuple[int, int, int] | None:
     lattice's rotations and reflections, that holds ``most_bonds(n)`` bonds (tests/test_topology.py
     enumerates every shape of 7 and 10 sites); outlines with one bond fewer are many. A Monte
     Carlo run whose ground state is this hexagon must find that one shape."""
-    n = _site_count(n)
+    n = integer("n", n, 1)
     k = max(1, round(np.sqrt(n / 3)))
     for a in (k - 1, k, k + 1):
         for b, c in ((a, a), (a, a + 1), (a + 1, a + 1)):

@@ -19,6 +19,9 @@ rule montecarlo_run:
         surface_moves=per_box(MC, "surface_moves"),
         exchange=exchange_after_anneal(MC),
         **pick(MC, "ell", "eps", "tol", "cluster_moves", "cluster_link"),
+    # The anneal is serial; the replica exchange after it runs its replicas on this many threads
+    # (raise it with --set-threads montecarlo_run=N where a job may have N cores).
+    threads: 1
     wildcard_constraints:
         kind="sparse|dense|large|sparse_supplement|dense_supplement",
         seed=r"\d+",

@@ -53,7 +53,7 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
         exchange_checkpoint = (f"{checkpoint[:-4]}_exchange{rounds}_K{replicas}"
                                f"_T{T_low:g}-{T_high:g}.pkl")
         x = replica_exchange(particle, g, ladder, rounds=rounds, initial_sites=r.sites, checkpoint=exchange_checkpoint,
-                             **chain)
+                             threads=snakemake.threads, **chain)  # noqa: F821 (the job's cores: the rule's threads)
         print(f"replica exchange after the anneal, {replicas} temperatures {T_low:g}-{T_high:g} g, "
               f"{rounds} rounds: energy {r.energy:.6g} -> {x.energy:.6g}, bonds {r.bonds} -> "
               f"{x.bonds}; swap acceptance {', '.join(f'{a:.2f}' for a in x.swap_acceptance)}; "
