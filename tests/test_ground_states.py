@@ -80,7 +80,8 @@ def test_a_box_too_small_for_the_gas_has_no_gas_candidate(particle):
     assert "gas" not in set(box_candidates(particle, 12, 5).family.tolist())
 
 
-@pytest.mark.parametrize("n, box, message", [(0, 10, "n must"), (100, 10, "n must be smaller"), (10, 1, "box")])
+@pytest.mark.parametrize("n, box, message", [(0, 10, "n must"), (100, 10, "n must be smaller"), (10, 1, "box"),
+                                            (None, 10, "n must be an integer"), (10, 7.5, "box must be an integer")])
 def test_bad_input(particle, n, box, message):
     with pytest.raises(ValueError, match=message):
         box_candidates(particle, n, box)

@@ -476,7 +476,7 @@ def test_complete_hexagon_numbers_are_the_largest_of_their_perimeter():
     assert len(found) == len(set(found)) and len(found) >= 90
     assert T.complete_hexagon_sides(200) == (8, 9, 9) and T.most_bonds(200) == 551
     assert T.complete_hexagon_sides(201) is None
-    for bad in (0, -3, 2.5, True):
+    for bad in (0, -3, 2.5, True, None, "7"):  # None and "7": ValueError, not int()'s TypeError
         with pytest.raises(ValueError, match="n must be"):
             T.complete_hexagon_sides(bad)
         with pytest.raises(ValueError, match="n must be"):
