@@ -9,6 +9,7 @@ aggregate of the same n is elongated (ansatz.finite_aggregates), and a hollow ma
 ended more than EQUILIBRATED_GAP bulk particle energies above the box's predicted ground state
 (the best of ground_states.box_candidates: single aggregates, a fibre wrapping the box, several
 aggregates, the gas), i.e. not equilibrated; the gaps are in the log of montecarlo_diagram."""
+import numpy as np
 from matplotlib.lines import Line2D
 
 from pyfrustrate import plotting, topology
@@ -67,11 +68,13 @@ def hollow_markers_explained(mc, n):
 
 def protocol(mc, n):
     """How the runs were made: annealing, then (montecarlo_run.py) low-temperature replica exchange."""
-    rounds = sorted(set(int(r) for r in mc.get("exchange_rounds", [0])))
-    if rounds == [0]:
+    rounds = np.asarray(mc.get("exchange_rounds", np.zeros(len(mc["Gamma"]))), int)
+    if not rounds.any():
         return f"Annealing runs of {n} particles"
-    return (f"Annealing runs of {n} particles, then {'/'.join(map(str, rounds))} rounds of replica exchange at low "
-            "temperature from the final state")
+    taken = sorted(set(rounds[rounds > 0].tolist()))
+    where = "" if rounds.all() else f" at Gamma >= {np.min(mc['Gamma'][rounds > 0]):g}"
+    return (f"Annealing runs of {n} particles, then{where} {'/'.join(map(str, taken))} rounds of replica exchange "
+            "at low temperature from the final state")
 
 
 def main(mc_path, diagram_path, continuum_path, outputs):

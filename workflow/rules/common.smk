@@ -13,14 +13,15 @@ def per_box(section, key):
 def exchange_after_anneal(section):
     """A Monte Carlo run's low-temperature replica exchange after its anneal (montecarlo_run.py):
     its rounds for the run's box kind (per_box) and, only when there are any, the ladder's
-    temperatures (in units of g) and size, so that a run without the stage never reads them."""
+    temperatures (in units of g) and size and the least Gamma that takes the stage, so that a run
+    without the stage never reads them."""
     rounds = per_box(section, "exchange_rounds")
 
     def params(w):
         if not rounds(w):
             return dict(rounds=0)
         return dict(rounds=rounds(w), temperatures=section["exchange_temperatures"],
-                    replicas=section["exchange_replicas"])
+                    replicas=section["exchange_replicas"], Gamma_min=section["exchange_Gamma_min"])
 
     return params
 

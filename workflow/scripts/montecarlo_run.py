@@ -8,7 +8,7 @@ cluster energies, temperature lowered linearly from g to 0. The run's kind picks
 Gamma maps to g (continuum.BINDING_CONVENTIONS). Gamma_measured is the run's Gamma in the
 measured convention (gamma = g), where the ansatz and continuum diagrams are drawn.
 
-With exchange["rounds"] > 0 the anneal's final configuration then seeds every replica of a
+With exchange["rounds"] > 0, at Gamma_measured >= exchange["Gamma_min"], the anneal's final configuration then seeds every replica of a
 low-temperature replica exchange (pyfrustrate.replica_exchange, exchange["replicas"] temperatures
 from exchange["temperatures"][0] g to [1] g, geometric, the same moves): the
 hot replicas find the outline with the most bonds, which the linear schedule leaves one bond
@@ -47,6 +47,10 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
         print(f"resumed from checkpoint {checkpoint}")
     final, exchange, exchange_checkpoint = r, {}, None
     rounds = p.exchange["rounds"]
+    if rounds and Gamma_measured < p.exchange["Gamma_min"]:
+        print(f"no replica exchange after the anneal: Gamma {Gamma_measured:.4g} (measured convention) is below "
+              f"exchange_Gamma_min {p.exchange['Gamma_min']:g}")
+        rounds = 0
     if rounds:
         (T_low, T_high), replicas = p.exchange["temperatures"], p.exchange["replicas"]
         ladder = geometric_temperatures(T_low * g, T_high * g, replicas)
