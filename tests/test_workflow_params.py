@@ -84,6 +84,7 @@ def _rerun_by_params(work: Path, configfile: Path) -> tuple[set[str], set[str]]:
         (["montecarlo"], "large_sweeps", ["results/montecarlo/runs/large_*"]),
         (["montecarlo"], "dense_sweeps", ["results/montecarlo/runs/dense_*"]),
         (["montecarlo"], "tol", ["results/montecarlo/runs/*"]),
+        (["montecarlo"], "exchange_Gamma_min", ["results/montecarlo/runs/sparse_*"]),
         (["montecarlo"], "finite_Gamma_count", ["results/montecarlo/finite/*"]),
         (["triangle", "montecarlo"], "sweeps", ["results/triangle/runs/sparse_*"]),
         (["random"], "fits", ["results/random/fits.npz"]),
