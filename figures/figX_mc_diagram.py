@@ -72,7 +72,7 @@ def protocol(mc, n):
     if not rounds.any():
         return f"Annealing runs of {n} particles"
     taken = sorted(set(rounds[rounds > 0].tolist()))
-    where = "" if rounds.all() else f" at Gamma >= {np.min(mc['Gamma'][rounds > 0]):g}"
+    where = "" if rounds.all() else f", at Gamma >= {np.min(mc['Gamma'][rounds > 0]):g},"
     return (f"Annealing runs of {n} particles, then{where} {'/'.join(map(str, taken))} rounds of replica exchange "
             "at low temperature from the final state")
 
@@ -107,10 +107,10 @@ def main(mc_path, diagram_path, continuum_path, outputs):
         "predicted ground state (best of single aggregates, a wrapping fibre,",
         f"several aggregates, the gas); {same} end in that ground state's structure (read from their clusters: "
         "ground_states.structure).",
-        f"{protocol(mc, n)}; numbers: size of the largest aggregate. A box this small holds neither a bulk "
-        "nor a fibre wider than it is long:",
-        "compare the runs with the band (the best single aggregate of the same particles), not only with the "
-        "infinite-system diagram.",
+        f"{protocol(mc, n)}; numbers: size of the largest aggregate.",
+        "A box this small holds neither a bulk nor a fibre wider than it is long: compare the runs with the band "
+        "(the best single aggregate",
+        "of the same particles), not only with the infinite-system diagram.",
     ]
     lines += hollow_markers_explained(mc, n)
     fig.text(0.07, 0.03, "\n".join(lines), fontsize=6, va="top")  # below the axis label, however many lines
