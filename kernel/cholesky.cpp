@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <utility>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -33,6 +34,18 @@ class SerialOpenMP {
     int saved_;
 #endif
 };
+
+// CHOLMOD's numeric factorisation and solve call the BLAS on their dense supernodes. Debian's
+// single-threaded OpenBLAS (libopenblas0-serial) is not safe to call from two threads at once:
+// two replicas of pf.replica_exchange relaxing side by side got factorisations that differed in
+// the last digits from run to run (energy traces 1e-9 apart after 300 rounds, then different
+// Metropolis decisions), and reproducible ones with the reference BLAS preloaded. These calls
+// therefore hold one process-wide lock (uncontended in a single-threaded run); the symbolic
+// analysis, the kernel's own LDL^T and everything else still run in parallel.
+std::mutex& blas_lock() {
+    static std::mutex m;
+    return m;
+}
 
 }  // namespace
 
@@ -205,6 +218,7 @@ bool CholeskyFactor::factorize(const std::vector<double>& values) {
     int status = 0;
     {
         SerialOpenMP serial;
+        std::lock_guard<std::mutex> blas(blas_lock());
         status = cholmod_factorize(A, L, c);
     }
     ok_ = status && c->status == CHOLMOD_OK && L->minor == L->n;
@@ -272,6 +286,7 @@ Eigen::VectorXd CholeskyFactor::solve(const Eigen::VectorXd& b) const {
     cholmod_dense* x = nullptr;
     {
         SerialOpenMP serial;
+        std::lock_guard<std::mutex> blas(blas_lock());
         x = cholmod_solve(CHOLMOD_A, static_cast<cholmod_factor*>(factor_), &rhs, c);
     }
     if (!x) throw std::runtime_error("sparse Cholesky: CHOLMOD's solve failed");
