@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _kernel
+from ._checks import integer
 from .topology import Topology, tiling_facts
 
 METHODS = ("auto", "lbfgs", "linear", "newton")
@@ -162,8 +163,7 @@ def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5,
         # tol = inf would stop every method at once and call the start converged.
         raise ValueError(f"tol must be positive and finite, got {tol!r}")
     for name, value in (("max_iter", max_iter), ("memory", memory)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 1 <= value < 2**31:
-            raise ValueError(f"{name} must be an integer in [1, 2**31), got {value!r}")
+        integer(name, value, 1, 2**31 - 1)  # the kernel's int
     if cache is not None:
         if not isinstance(cache, StiffnessCache):
             raise ValueError(f"cache must be a StiffnessCache, got {type(cache).__name__}")

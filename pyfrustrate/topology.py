@@ -51,7 +51,7 @@ from math import gcd, isqrt
 import numpy as np
 
 from . import _kernel
-from ._checks import integer
+from ._checks import integer, non_negative
 
 SQRT3 = np.sqrt(3.0)
 TILINGS = ("hexagon", "triangle")
@@ -273,9 +273,7 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.nda
     Finite-size predictions use both one-parameter families of single aggregates of exactly
     ``n`` particles (``ansatz.finite_aggregates``)."""
     n = integer("n", n, 1)
-    segment = float(segment)
-    if not np.isfinite(segment) or segment < 0:
-        raise ValueError(f"segment must be non-negative and finite, got {segment!r}")
+    segment = non_negative("segment", segment)
     # Enough rows and columns to hold n sites around the segment.
     half = int(np.ceil(segment / 2 + np.sqrt(n))) + 2
     r = np.arange(-2 * half, 2 * half + 1)
