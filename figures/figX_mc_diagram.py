@@ -52,10 +52,13 @@ def hollow_markers_explained(mc, n):
     ]
     short, value = mc["bond_deficit"][stuck], mc["bond_energy"][stuck]
     few = stuck & (mc["bond_deficit"] >= 1) & (mc["bond_deficit"] <= 3)
-    lines.append(f"{int(few.sum())} of the {int(stuck.sum())} hold 1-3 bonds fewer than the ground state "
-                 f"({int(short.min())} to {int(short.max())} in all), and one bond is worth {value.min():.1f}-{value.max():.1f} "
-                 "bulk particle energies there:")
-    lines.append("the criterion asks for the best outline to within a bond or two.")
+    worth = f"one bond is worth {value.min():.1f}-{value.max():.1f} bulk particle energies there"
+    if few.any():
+        lines.append(f"{int(few.sum())} of the {int(stuck.sum())} hold 1-3 bonds fewer than the ground state "
+                     f"({int(short.min())} to {int(short.max())} in all), and {worth}:")
+        lines.append("the criterion asks for the best outline to within a bond or two.")
+    else:  # "0 of the 5 hold 1-3 bonds fewer" would point at a cause none of them has
+        lines.append(f"They hold {int(short.min())} to {int(short.max())} bonds fewer than the ground state; {worth}.")
     sides = topology.complete_hexagon_sides(n)
     last_bond = stuck & (mc["bond_deficit"] == 1) & (mc["ground_bonds"] == topology.most_bonds(n))
     if sides and last_bond.any():
@@ -72,7 +75,7 @@ def protocol(mc, n):
     if not rounds.any():
         return f"Annealing runs of {n} particles"
     taken = sorted(set(rounds[rounds > 0].tolist()))
-    where = "" if rounds.all() else f", at Gamma >= {np.min(mc['Gamma'][rounds > 0]):g},"
+    where = "" if rounds.all() else f", at Γ ≥ {np.min(mc['Gamma'][rounds > 0]):g},"
     return (f"Annealing runs of {n} particles, then{where} {'/'.join(map(str, taken))} rounds of replica exchange "
             "at low temperature from the final state")
 
