@@ -71,7 +71,7 @@ def main(run_paths, finite_paths, outputs):
         ax.set_ylabel(f"aggregate {name} (lattice units)")
         ax.set_xlim(0, 1.0)
         # room for the legend above the data: each entry takes ~8 % of the axis height
-        ax.set_ylim(0, ax.get_ylim()[1] / (1 - 0.08 * len(unique)))
+        ax.set_ylim(0, ax.get_ylim()[1] / max(1 - 0.08 * len(unique), 0.4))
     axes[0].set_title(rf"$\nu = {nu_fibre:g}$, $\ell = {float(runs[0]['ell']):g}$", fontsize=8)
     plotting.panel_label(axes[0], "a")
     plotting.panel_label(axes[1], "b")
