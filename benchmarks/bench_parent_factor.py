@@ -143,8 +143,11 @@ def parent_preconditioned(factor, to_parent_free, n_parent_free, rtol):
     """PCG on the child's Hessian with the parent's factor on the dof the two share and the
     inverse diagonal block of the new dof; returns (step, iterations), or raises Negative."""
     shared = to_parent_free >= 0
+    new = ~shared
 
-    def apply_with(block):
+    def solve(H, rhs):
+        block = np.linalg.inv(H[new][:, new].toarray()) if new.any() else None
+
         def apply(r):
             z = np.zeros_like(r)
             full = np.zeros(n_parent_free)
@@ -153,13 +156,7 @@ def parent_preconditioned(factor, to_parent_free, n_parent_free, rtol):
             if block is not None:
                 z[new] = block @ r[new]
             return z
-        return apply
 
-    new = ~shared
-
-    def solve(H, rhs):
-        block = np.linalg.inv(H[new][:, new].toarray()) if new.any() else None
-        apply = apply_with(block)
         # Preconditioned conjugate gradients (written out: scipy's cg does not report negative
         # curvature, which means the child's Hessian is not positive definite).
         x = np.zeros_like(rhs)
