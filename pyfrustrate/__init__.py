@@ -8,8 +8,16 @@ supplement), ``topology`` (aggregates, on either tiling), ``relax`` (minimum
 deformation energy at fixed topology), ``continuum`` (the analytic theory), ``chain`` (the 1D
 toy model), ``anneal`` (Monte Carlo of topologies), ``random_particles`` and ``RandomHexagon``
 (random-elasticity particles).
+
+``import pyfrustrate as pf`` reaches every public submodule as an attribute (``pf.ansatz``,
+``pf.ground_states``, ``pf.plotting``, ...), and no function bears the name of a submodule.
+``pf.plotting`` is loaded on first use: it imports matplotlib, which takes longer than the rest of
+the package together, so users who never draw do not wait for it.
 """
-from . import chain, continuum, random_particles, topology
+import importlib as _importlib
+
+from . import (ansatz, boundary_layer, chain, continuum, ground_states, io, montecarlo, particles, provenance,
+               random_particles, relaxation, topology)
 from .particles import Hexagon, Particle, Triangle
 from .relaxation import ConvergenceWarning, Relaxation, StiffnessCache, relax
 from .montecarlo import AnnealResult, anneal
@@ -17,5 +25,22 @@ from .replica_exchange import ReplicaExchangeResult, replica_exchange
 from .random_particles import RandomHexagon
 
 __version__ = "0.1.0"
-__all__ = ["chain", "continuum", "topology", "random_particles", "Hexagon", "Triangle", "Particle", "RandomHexagon", "relax", "Relaxation", "StiffnessCache",
+
+#: Submodules loaded on first attribute access (``pf.plotting``) rather than at import.
+_LAZY_SUBMODULES = ("plotting",)
+
+__all__ = ["ansatz", "boundary_layer", "chain", "continuum", "ground_states", "io", "montecarlo", "particles",
+           "plotting", "provenance", "random_particles", "relaxation", "topology",
+           "Hexagon", "Triangle", "Particle", "RandomHexagon", "relax", "Relaxation", "StiffnessCache",
            "ConvergenceWarning", "anneal", "AnnealResult", "replica_exchange", "ReplicaExchangeResult"]
+
+
+def __getattr__(name: str):
+    """Load a lazy submodule on first access (PEP 562)."""
+    if name in _LAZY_SUBMODULES:
+        return _importlib.import_module(f".{name}", __name__)  # binds it on the package: called once
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY_SUBMODULES))

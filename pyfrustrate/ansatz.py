@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from . import continuum, topology
+from . import _checks, continuum, topology
 from .relaxation import relax
 
 #: Aggregate kind of each candidate family, for the diagrams' colour code.
@@ -54,6 +54,17 @@ def catalogue(max_radius: int = 25, max_width: int = 35, cuts=(0, 1, 2), straigh
     one), compact disks ``R = 1..max_radius``, fibres of each cut from the narrowest connected
     one to ``max_width`` (free to curve), optionally the straight cut-0 fibres, the bulk and
     bulks with holes (default: every pattern of the tiling, ``topology.hole_patterns``)."""
+    max_radius = _checks.integer("max_radius", max_radius, 0)
+    max_width = _checks.integer("max_width", max_width, 0)
+    # Every candidate is kept. The disks' particles sum to (max_radius + 1)^3 on the hexagon
+    # tiling (the centred hexagonal numbers 1 + 3 R (R + 1) sum to cubes), to
+    # sum 6 R^2 = M (M + 1) (2 M + 1) on the triangle one; a fibre cell holds at most 2 width + 1.
+    m = max_radius
+    disks = (m + 1) ** 3 if tiling == "hexagon" else m * (m + 1) * (2 * m + 1)
+    fibers = len(cuts) * (max_width + 1) ** 2
+    _checks.affordable(f"catalogue(max_radius={max_radius}, max_width={max_width})",
+                       (disks + fibers) * topology.TOPOLOGY_BYTES_PER_PARTICLE
+                       + (2 * max_width + 1) * topology.FIBER_BYTES_PER_PARTICLE)
     if hole_patterns is None:
         hole_patterns = tuple(topology.hole_patterns(tiling))
     out = [Candidate("single", 0, topology.disk(0, tiling=tiling))]
@@ -118,6 +129,7 @@ def relax_catalogue(particle, candidates, method: str = "auto", tol: float = 1e-
     linear solution) are exact to the tolerance; ``'linear'`` keeps the linear solution (error
     O(eps^2) relative). On the paper-scale catalogue at ell = 5 Newton took a fifth of L-BFGS's
     time (benchmarks/README.md)."""
+    _checks.particle("particle", particle)
     rows = []
     iterator = candidates
     if progress:
@@ -139,6 +151,7 @@ def relax_catalogue(particle, candidates, method: str = "auto", tol: float = 1e-
 def binding_energy_of(particle, ell: float, nu: float, Gamma) -> np.ndarray:
     """Binding energy ``g`` per bound pair of sides for line tension ``Gamma`` (supplement S1 and
     the tiling's convention, ``continuum.line_tension``), at the particle's own ``(ell, nu, eps, k)``."""
+    _checks.particle("particle", particle)
     return np.asarray(continuum.particle_parameters(ell, nu, Gamma, k=particle.k, eps=particle.eps,
                                                     tiling=particle.tiling).g, float)
 
@@ -241,7 +254,7 @@ def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", to
     shape at binding energy ``g`` is ``best(g)``. The faceted shapes hold the most bonds; the round
     ones alone left the best aggregate of 200 particles 1-4 bulk particle energies too high
     (ell = 5, Gamma = 0.5 to 0.95), below which annealing with bonded moves went."""
-    if getattr(particle, "tiling", "hexagon") != "hexagon":
+    if _checks.particle("particle", particle).tiling != "hexagon":
         raise ValueError("particle: finite-size predictions are built for hexagon tilings only")
     if segments is None:
         segments = np.asarray(FINITE_SEGMENTS) * np.sqrt(n)

@@ -17,7 +17,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _kernel
-from ._checks import integer
+from ._checks import affordable, integer
+
+
+#: Bytes per particle of a chain's relaxation: its 2 (n + 1) coordinates, the gradient and
+#: L-BFGS's stored pairs of updates (10 by default in NLopt), with headroom.
+CHAIN_BYTES_PER_PARTICLE = 512
 
 
 @dataclass(frozen=True)
@@ -66,6 +71,7 @@ def relax(n: int, k: float = 1.0, kc: float = 0.01, eps: float = 0.01, *, tol: f
     if not (tol > 0):
         raise ValueError(f"tol must be positive, got {tol!r}")
     n = integer("n", n, 1)
+    affordable(f"chain.relax(n={n})", n * CHAIN_BYTES_PER_PARTICLE)
     out = _kernel.chain_relax(int(n), float(k), float(kc), float(eps), float(tol) * k * eps, int(max_iter))
     x = np.asarray(out["x"])
     m = int(n) + 1
@@ -91,6 +97,7 @@ def analytic_shift(n: int, k: float, kc: float, eps: float) -> np.ndarray:
     from .continuum import _checked, chain_ell
 
     n = integer("n", n, 1)
+    affordable(f"analytic_shift(n={n})", n * CHAIN_BYTES_PER_PARTICLE)
     k = float(_checked("k", k, lo=0.0, lo_open=True))
     kc = float(_checked("kc", kc, lo=0.0))
     eps = float(_checked("eps", eps, lo=0.0, hi=1.0, lo_open=True, hi_open=True))

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from . import ansatz, topology
+from . import _checks, ansatz, topology
 from ._checks import integer
 from .relaxation import relax
 
@@ -149,9 +149,13 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
     """Candidate ground states of ``n`` particles in a periodic ``box x box`` lattice (module
     docstring), relaxed with ``method`` to ``tol``; ``max_aggregates`` limits the separate
     aggregates to counts 2 .. max_aggregates (default: ``aggregate_counts(n)``). Hexagon tiling."""
-    if getattr(particle, "tiling", "hexagon") != "hexagon":
+    if _checks.particle("particle", particle).tiling != "hexagon":
         raise ValueError("particle: box ground states are built for hexagon tilings only")
     n, box = integer("n", n, 1), integer("box", box, 2)
+    # Occupancy grids and placement offsets per box cell (a list of tuples, the largest), the
+    # topologies of n particles and the grids their shapes are cut from.
+    _checks.affordable(f"box_candidates(n={n}, box={box})", box * box * 64 + n * (
+        topology.TOPOLOGY_BYTES_PER_PARTICLE + 16 * topology.GRID_BYTES_PER_CELL))
     if n >= box * box:
         raise ValueError(f"n must be smaller than the box's {box * box} sites, got {n}")
     counts = aggregate_counts(n, max_aggregates)  # checks max_aggregates before any relaxation

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from . import _kernel
+from . import _checks, _kernel
 from .particles import _corners
 from .topology import SQRT3
 
@@ -53,6 +53,7 @@ def _rotation_permutation() -> np.ndarray:
 
 
 MATRIX_CHUNK = 10_000  # matrices drawn per random stream; matrix i comes from stream i // MATRIX_CHUNK
+MATRIX_BYTES = 9 * 9 * 8  # one elasticity matrix in float64
 
 
 def elasticity_matrices(n: int, seed: int, start: int = 0) -> np.ndarray:
@@ -67,6 +68,8 @@ def elasticity_matrices(n: int, seed: int, start: int = 0) -> np.ndarray:
         if int(value) != value or value < 0:
             raise ValueError(f"{name} must be a non-negative integer, got {value!r}")
     n, start = int(n), int(start)
+    # The result (n, 9, 9) and one chunk's draws and their symmetrised copies.
+    _checks.affordable(f"elasticity_matrices(n={n})", (n + 4 * MATRIX_CHUNK) * MATRIX_BYTES)
     p = _rotation_permutation()
     p2 = p[p]
     out = np.empty((n, 9, 9))
@@ -391,6 +394,7 @@ def edge_energy_profile(particle, width: int) -> tuple[np.ndarray, np.ndarray]:
     length converges in width). ``excess`` is in units of the interior energy per particle."""
     from .relaxation import particle_corners, particle_energies, relax
     from .topology import fiber
+    _checks.particle("particle", particle)
     width = int(width)
     if width < 8:
         raise ValueError(f"width must be at least 8 rows, got {width}")
@@ -412,6 +416,7 @@ def fitted_boundary_layer_length(particle, window=(3.0, 8.0), width=None, iterat
     simple particle ``exp(-d/ell) - exp(-2 d/ell)``), so a window that starts too
     close overestimates; for small ell a window holds few rows and the fit is coarse.
     Compare ``boundary_layer_length`` (exact slowest mode)."""
+    _checks.particle("particle", particle)
     lo, hi = window
     if not (0 <= lo < hi):
         raise ValueError(f"window must satisfy 0 <= start < end, got {window!r}")
@@ -448,6 +453,8 @@ def sample_properties(n: int, seed: int, start: int = 0) -> dict:
     """Boundary-layer lengths (exact, ``boundary_layer_lengths``), predictors and Poisson ratio
     of the random particles ``start .. start + n - 1`` of sample ``seed``: a dict of arrays
     named as ``SAMPLE_FIELDS`` (``index`` regenerates a particle with ``RandomHexagon.draw``)."""
+    # The matrices, then pseudo_moduli's per-matrix products of the same order.
+    _checks.affordable(f"sample_properties(n={n})", 3 * _checks.integer("n", n, 0) * MATRIX_BYTES)
     M = elasticity_matrices(n, seed, start)
     out = {k: v for k, v in pseudo_moduli(M).items() if k in SAMPLE_FIELDS}
     out["ell"] = boundary_layer_lengths(M)
@@ -485,6 +492,7 @@ def binding_energy(particle, Gamma, ell: float, nu: float):
     ``Gamma = 2 gamma / ((1 + nu) ell e_bulk)`` with ``gamma = g`` (the convention measured in
     ``ansatz``) and ``e_bulk`` the bulk deformation energy per unit reference area."""
     from .topology import AREA_PER_PARTICLE
+    _checks.particle("particle", particle)
     if not (np.isfinite(ell) and ell > 0):
         raise ValueError(f"ell must be positive and finite, got {ell!r}")
     if not (-1 < nu < 1):
@@ -511,6 +519,7 @@ def line_tension_grid(Gamma_max: float, count: int, linear_until: float = 2.0) -
         raise ValueError(f"Gamma_max must be positive and finite, got {Gamma_max!r}")
     if int(count) != count or count < 4:
         raise ValueError(f"count must be an integer >= 4, got {count!r}")
+    _checks.affordable(f"line_tension_grid(count={count})", 3 * 8 * int(count))  # two pieces and their join
     if Gamma_max <= linear_until:
         return np.linspace(0.0, Gamma_max, int(count))
     n_linear = int(count) // 2
@@ -534,6 +543,7 @@ def aggregation_line(particle, Gamma, ell: float, nu: float, candidates=None, me
     ``relative=True`` reads ``Gamma`` in units of ``Gamma_max`` (Fig. S2). ``method='linear'`` is
     exact as eps -> 0, where Gamma captures all of the eps dependence."""
     from .ansatz import FAMILY_PHASE, relax_catalogue
+    _checks.particle("particle", particle)
     candidates = catalogue_for(ell) if candidates is None else candidates
     energies = relax_catalogue(particle, candidates, method=method)
     bulk = np.flatnonzero(energies.family == "bulk")[0]

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _kernel
+from . import _checks
 from ._checks import integer
 from .topology import Topology, tiling_facts
 
@@ -245,8 +246,7 @@ def _connected_parts(topology: Topology) -> int:
 def _check_scene(particle, topology) -> None:
     """TypeError naming the argument that is not a particle model or not a ``Topology`` (rather
     than an AttributeError from deep inside). A particle of another tiling is the kernel's to refuse."""
-    if getattr(particle, "_kernel_model", None) is None or not hasattr(particle, "tiling"):
-        raise TypeError(f"particle must be a particle model (Hexagon, Triangle, RandomHexagon), got {particle!r}")
+    _checks.particle("particle", particle)
     if not isinstance(topology, Topology):
         raise TypeError(f"topology must be a pyfrustrate.topology.Topology, got {type(topology).__name__}")
 
@@ -268,17 +268,20 @@ def _state(particle, topology: Topology, state) -> np.ndarray:
 
 def energy(particle, topology: Topology, state) -> tuple[float, np.ndarray]:
     """Deformation energy at ``state`` and its gradient (same layout)."""
-    return _kernel.energy(particle._kernel_model, topology.kernel, _state(particle, topology, state))
+    x = _state(particle, topology, state)  # checks the particle before its attributes are read
+    return _kernel.energy(particle._kernel_model, topology.kernel, x)
 
 
 def particle_energies(particle, topology: Topology, state) -> np.ndarray:
     """Deformation energy of each particle, shape (n_particles,)."""
-    return np.asarray(_kernel.particle_energies(particle._kernel_model, topology.kernel, _state(particle, topology, state)))
+    x = _state(particle, topology, state)
+    return np.asarray(_kernel.particle_energies(particle._kernel_model, topology.kernel, x))
 
 
 def particle_corners(particle, topology: Topology, state) -> np.ndarray:
     """Corner positions seen by each particle (periodic images applied), shape (n_particles, 6, 2)."""
-    c = _kernel.particle_corners(particle._kernel_model, topology.kernel, _state(particle, topology, state))
+    x = _state(particle, topology, state)
+    c = _kernel.particle_corners(particle._kernel_model, topology.kernel, x)
     return np.asarray(c).reshape(topology.n_particles, -1, 2)
 
 

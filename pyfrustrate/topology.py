@@ -51,9 +51,21 @@ from math import gcd, isqrt
 import numpy as np
 
 from . import _kernel
-from ._checks import integer, non_negative
+from ._checks import affordable, integer, non_negative
 
 SQRT3 = np.sqrt(3.0)
+
+# Memory estimates, measured on disks of 0.27 and 1.1 million particles, fibres of 0.2 million
+# and the site builders at R = 3000 (peak resident size over the particles or grid cells), with
+# some headroom: a size whose estimate exceeds the allowed share of memory is refused up front
+# (``_checks.affordable``) instead of dying in numpy's allocator or swapping the machine.
+#: Bytes per particle of a ``Topology`` (the kernel's corner graph; 360 measured).
+TOPOLOGY_BYTES_PER_PARTICLE = 400
+#: Bytes per lattice cell of the numpy grids the site builders scan (41 to 144 measured).
+GRID_BYTES_PER_CELL = 160
+#: Bytes per particle of a fibre's connectivity check (Python sets of nine images; 3160 measured,
+#: topology included).
+FIBER_BYTES_PER_PARTICLE = 3600
 TILINGS = ("hexagon", "triangle")
 _PERIODICITY = {"none": 0, "fiber": 1, "bulk": 2}
 
@@ -174,6 +186,7 @@ class Topology:
             raise ValueError(f"sites must have shape (n, {columns}) for the {self.tiling} tiling, got {sites.shape}")
         if not np.all(np.isfinite(sites)) or not np.all(np.equal(np.mod(sites, 1), 0)):
             raise ValueError("sites must be integer lattice coordinates (i, j): a site is off the lattice")
+        affordable(f"a topology of {len(sites)} particles", len(sites) * TOPOLOGY_BYTES_PER_PARTICLE)
         sites = sites.astype(np.int64)
         if np.abs(sites).max() > 10**6:
             raise ValueError("sites: coordinates beyond 1e6 are not supported")
@@ -223,6 +236,8 @@ def cluster(sites, label: str = "cluster", tiling: str = "hexagon") -> Topology:
 
 def hexagon_sites(R: int) -> np.ndarray:
     """Sites within hexagonal distance ``R`` of the origin: ``1 + 3 R (R + 1)`` of them."""
+    R = _whole("R", R, 0)
+    affordable(f"hexagon_sites(R={R})", (2 * R + 1) ** 2 * GRID_BYTES_PER_CELL)
     r = np.arange(-R, R + 1)
     i, j = np.meshgrid(r, r, indexing="ij")
     keep = np.abs(i + j) <= R
@@ -232,6 +247,8 @@ def hexagon_sites(R: int) -> np.ndarray:
 def triangle_hexagon_sites(R: int) -> np.ndarray:
     """Triangles inside the hexagon of side ``R`` around the vertex (0, 0): ``6 R^2`` of them,
     those whose three vertices lie within hexagonal distance ``R`` of it."""
+    R = _whole("R", R, 0)
+    affordable(f"triangle_hexagon_sites(R={R})", (2 * R + 2) ** 2 * GRID_BYTES_PER_CELL)
     r = np.arange(-R - 1, R + 1)
     i, j = (a.ravel() for a in np.meshgrid(r, r, indexing="ij"))
 
@@ -248,7 +265,10 @@ def disk(R: int, tiling: str = "hexagon") -> Topology:
     """Compact aggregate of 'radius' ``R`` (``R = 0`` is a single particle): the hexagon of radius
     ``R`` around a site (hexagons) or of side ``R`` around a vertex (triangles)."""
     R = _whole("R", R, 0)
-    if tiling_facts(tiling)["sublattices"] == 1:
+    facts = tiling_facts(tiling)
+    n_particles = 1 + 3 * R * (R + 1) if facts["sublattices"] == 1 else max(1, 6 * R * R)
+    affordable(f"disk(R={R})", (2 * R + 2) ** 2 * GRID_BYTES_PER_CELL + n_particles * TOPOLOGY_BYTES_PER_PARTICLE)
+    if facts["sublattices"] == 1:
         sites = hexagon_sites(int(R))
     else:
         sites = triangle_hexagon_sites(int(R)) if R > 0 else np.array([[0, 0, 0]])
@@ -276,6 +296,7 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.nda
     segment = non_negative("segment", segment)
     # Enough rows and columns to hold n sites around the segment.
     half = int(np.ceil(segment / 2 + np.sqrt(n))) + 2
+    affordable(f"stadium_sites(n={n}, segment={segment:g})", (4 * half + 1) ** 2 * GRID_BYTES_PER_CELL)
     r = np.arange(-2 * half, 2 * half + 1)
     i, j = np.meshgrid(r, r, indexing="ij")
     sites = np.column_stack([i.ravel(), j.ravel()])
@@ -407,6 +428,8 @@ def fiber(width: int, cut: int = 0, curved: bool = True, tiling: str = "hexagon"
     tiling_facts(tiling)
     axis = fiber_axis(cut, tiling)
     width = _whole("width", width, 1)
+    grid = (4 * width + 9) ** 2 * GRID_BYTES_PER_CELL if tiling == "triangle" and cut == 2 else 0
+    affordable(f"fiber(width={width})", grid + 2 * width * FIBER_BYTES_PER_PARTICLE)
     sites = _fiber_cell(int(width), cut, tiling)
     if not _strip_is_connected(sites, axis, tiling):
         raise ValueError(f"width {width} is too narrow for cut {cut}: the strip falls apart "
