@@ -98,7 +98,7 @@ def tiling_facts(tiling: str = "hexagon") -> dict:
     >>> from pyfrustrate import topology
     >>> facts = topology.tiling_facts("hexagon")
     >>> facts["sublattices"], facts["coordination"], facts["bulk_bonds_per_particle"]
-    (1, 6, 3)
+    (1, 6, 3.0)
     """
     if tiling not in TILINGS:
         raise ValueError(f"tiling must be one of {TILINGS}, got {tiling!r}")
