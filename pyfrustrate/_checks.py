@@ -8,8 +8,30 @@ from numbers import Integral
 
 
 def integer(name: str, value, lo: int, hi: int | None = None) -> int:
-    """``value`` as an int in ``[lo, hi]`` (``hi`` None: no upper bound). Python and numpy
-    integers only: a float, even 2.0, is refused, as are booleans."""
+    """``value`` as an int in ``[lo, hi]``.
+
+    Python and numpy integers only: a float, even 2.0, is refused, as are booleans.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, quoted in the message.
+    value : object
+        What the caller passed.
+    lo : int
+        Smallest allowed value.
+    hi : int, optional
+        Largest allowed value (None: no upper bound).
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not an integer in range.
+    """
     if isinstance(value, bool) or not isinstance(value, Integral):
         raise ValueError(f"{name} must be an integer, got {value!r}")
     value = int(value)
@@ -20,7 +42,24 @@ def integer(name: str, value, lo: int, hi: int | None = None) -> int:
 
 
 def non_negative(name: str, value) -> float:
-    """``value`` as a finite float >= 0 (temperatures, binding energy, lengths)."""
+    """``value`` as a finite float ``>= 0`` (temperatures, binding energy, lengths).
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, quoted in the message.
+    value : object
+        What the caller passed.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not a finite non-negative number.
+    """
     try:
         t = float(value)
     except (TypeError, ValueError):
@@ -31,7 +70,24 @@ def non_negative(name: str, value) -> float:
 
 
 def probability(name: str, value) -> float:
-    """``value`` as a float in [0, 1]."""
+    """``value`` as a float in [0, 1].
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, quoted in the message.
+    value : object
+        What the caller passed.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not a number in [0, 1].
+    """
     try:
         p = float(value)
     except (TypeError, ValueError):
@@ -90,7 +146,13 @@ MEMORY_FRACTION = 0.5
 
 
 def physical_memory() -> int | None:
-    """The machine's physical memory in bytes (``os.sysconf``), or None where it is not known."""
+    """The machine's physical memory (``os.sysconf``).
+
+    Returns
+    -------
+    int or None
+        Bytes; None where the system does not report it.
+    """
     import os
 
     try:
@@ -100,8 +162,22 @@ def physical_memory() -> int | None:
 
 
 def byte_count(n_bytes: float) -> str:
-    """``n_bytes`` in binary units, three significant figures: ``byte_count(2**50 * 2.84)`` is
-    ``'2.84 PiB'``."""
+    """A number of bytes in binary units, three significant figures.
+
+    Parameters
+    ----------
+    n_bytes : float
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from pyfrustrate._checks import byte_count
+    >>> byte_count(512), byte_count(2.84 * 2**50)
+    ('512 B', '2.84 PiB')
+    """
     value, unit = float(n_bytes), "B"
     for next_unit in ("KiB", "MiB", "GiB", "TiB", "PiB", "EiB", "ZiB", "YiB"):
         if value < 1024:
