@@ -167,6 +167,7 @@ def byte_count(n_bytes: float) -> str:
     Parameters
     ----------
     n_bytes : float
+        A number of bytes (a float: estimates may exceed any integer type).
 
     Returns
     -------

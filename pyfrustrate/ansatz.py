@@ -395,7 +395,14 @@ FINITE_SEGMENTS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0, 4.
 class EnergiesLinearInG:
     """Candidates whose energies are ``deformation - g * bonds``: the lowest at each binding energy.
 
-    Subclasses provide the arrays ``deformation`` and ``bonds``, one entry per candidate.
+    Subclasses provide the arrays, one entry per candidate.
+
+    Attributes
+    ----------
+    deformation : ndarray
+        Deformation energy of each candidate.
+    bonds : ndarray
+        Bound pairs of sides of each candidate (energy ``-g`` each).
     """
 
     deformation: np.ndarray  # provided by the subclasses (dataclass fields there)
@@ -422,6 +429,7 @@ class EnergiesLinearInG:
         Parameters
         ----------
         g : array_like
+            Binding energies per bound pair of sides.
 
         Returns
         -------
@@ -435,6 +443,7 @@ class EnergiesLinearInG:
         Parameters
         ----------
         g : array_like
+            Binding energies per bound pair of sides.
 
         Returns
         -------

@@ -73,6 +73,7 @@ def decay_length(z) -> np.ndarray:
     Parameters
     ----------
     z : array_like of complex
+        Modes (``decay_modes``), ``|z| < 1``.
 
     Returns
     -------

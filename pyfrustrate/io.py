@@ -103,6 +103,7 @@ def load_npz(path) -> dict:
     Parameters
     ----------
     path : str or Path
+        The file.
 
     Returns
     -------
@@ -143,6 +144,7 @@ def provenance_line(provenance: dict) -> str:
     Parameters
     ----------
     provenance : dict
+        A provenance record (``provenance.describe``).
 
     Returns
     -------

@@ -52,10 +52,14 @@ class Particle(Protocol):
     eps: float
 
     @property
-    def force_scale(self) -> float: ...
+    def force_scale(self) -> float:
+        """A typical corner force: the unit of relaxation tolerances."""
+        ...
 
     @property
-    def bulk_energy_per_particle(self) -> float: ...
+    def bulk_energy_per_particle(self) -> float:
+        """The leading-order deformation energy of a bulk particle."""
+        ...
 
 
 def _real(name: str, value) -> float:
@@ -302,6 +306,7 @@ def particle_class(tiling: str):
     Parameters
     ----------
     tiling : {'hexagon', 'triangle'}
+        The tiling.
 
     Returns
     -------

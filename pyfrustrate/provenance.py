@@ -29,6 +29,7 @@ def git_state(directory=".") -> tuple[str, bool | None]:
     Parameters
     ----------
     directory : str or Path, optional
+        Any directory inside the checkout (default: the working directory).
 
     Returns
     -------
@@ -72,6 +73,7 @@ def describe(parameters: Mapping | None = None, *, seed=None, rule: str | None =
     rule : str, optional
         The workflow rule that ran it.
     directory : str or Path, optional
+        Any directory inside the checkout (default: the working directory).
         Where the work runs (its git state is recorded).
 
     Returns

@@ -159,6 +159,7 @@ def checked_matrix(M) -> np.ndarray:
     Parameters
     ----------
     M : array_like, shape (9, 9)
+        The candidate elasticity matrix.
 
     Returns
     -------
@@ -253,6 +254,7 @@ def rest_hessian(M) -> np.ndarray:
     Parameters
     ----------
     M : array_like, shape (9, 9)
+        Elasticity matrix.
 
     Returns
     -------
@@ -514,6 +516,7 @@ class RandomHexagon:
         Parameters
         ----------
         hexagon : Hexagon
+            The simple particle (its ``k, kc, k_area, eps``).
 
         Returns
         -------

@@ -652,8 +652,10 @@ def gyration_dimensions(sites, tiling: str = "hexagon") -> tuple[float, float]:
 
     Returns
     -------
-    width, length : float
-        In lattice spacings, ``width <= length``; 0, 0 for a single site.
+    width : float
+        The smaller side, in lattice spacings (0 for a single site).
+    length : float
+        The larger side, in lattice spacings (0 for a single site).
     """
     xy = site_positions(sites, tiling)
     if len(xy) < 2:
