@@ -13,8 +13,29 @@ toy model), ``anneal`` (Monte Carlo of topologies), ``random_particles`` and ``R
 ``pf.ground_states``, ``pf.plotting``, ...), and no function bears the name of a submodule.
 ``pf.plotting`` is loaded on first use: it imports matplotlib, which takes longer than the rest of
 the package together, so users who never draw do not wait for it.
+
+Conventions that bite: positions are in lattice spacings and sites in lattice coordinates
+(60-degree axes, ``topology``); ``topology.fiber(width)`` counts lattice lines, its continuum
+width ``W`` is the topology's ``size``; ``relax`` returns deformation energy only (binding
+excluded); ``Gamma`` maps to the binding ``g`` under an explicit convention
+(``continuum.particle_parameters(..., convention=)``, module ``continuum``).
+
+Examples
+--------
+A straight fibre of 10 rows relaxed, against the continuum fibre of the same width ``W``
+(``size``, in units of ``ell`` = 2) at ``Gamma = 0``, both per unit area in units of ``e_bulk``:
+
+>>> import pyfrustrate as pf
+>>> p = pf.Hexagon.from_continuum(ell=2.0, nu=0.5)
+>>> fibre = pf.topology.fiber(10, curved=False)
+>>> r = pf.relax(p, fibre)
+>>> round(float(r.energy_per_particle / p.bulk_energy_per_particle), 3)
+0.661
+>>> round(float(pf.continuum.fiber_energy(fibre.size / 2.0, 0.5, 0.0)), 3)
+0.663
 """
 import importlib as _importlib
+from typing import TYPE_CHECKING
 
 from . import (ansatz, boundary_layer, chain, continuum, ground_states, io, montecarlo, particles, provenance,
                random_particles, relaxation, topology)
@@ -23,6 +44,9 @@ from .relaxation import ConvergenceWarning, Relaxation, StiffnessCache, relax
 from .montecarlo import AnnealResult, anneal
 from .replica_exchange import ReplicaExchangeResult, replica_exchange
 from .random_particles import RandomHexagon
+
+if TYPE_CHECKING:  # type checkers see the lazily loaded module as it is
+    from . import plotting
 
 __version__ = "0.1.0"
 
