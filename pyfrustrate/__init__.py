@@ -11,8 +11,8 @@ toy model), ``anneal`` (Monte Carlo of topologies), ``random_particles`` and ``R
 
 ``import pyfrustrate as pf`` reaches every public submodule as an attribute (``pf.ansatz``,
 ``pf.ground_states``, ``pf.plotting``, ...), and no function bears the name of a submodule.
-``pf.plotting`` is loaded on first use: it imports matplotlib, which takes longer than the rest of
-the package together, so users who never draw do not wait for it.
+``pf.plotting`` is loaded on first use: it imports matplotlib, which a computation without
+figures does not need to wait for.
 
 Conventions that bite: positions are in lattice spacings and sites in lattice coordinates
 (60-degree axes, ``topology``); ``topology.fiber(width)`` counts lattice lines, its continuum
