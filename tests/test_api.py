@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 import pyfrustrate as pf
-from pyfrustrate import _checks, ansatz, chain, ground_states, random_particles, relaxation, topology
+from pyfrustrate import _checks, ansatz, boundary_layer, chain, ground_states, random_particles, relaxation, topology
 
 PACKAGE = Path(pf.__file__).parent
 
@@ -181,6 +181,12 @@ HUGE = [
     ("random_particles.sample_properties", lambda: random_particles.sample_properties(10**12, 1), 648 * 10**12),
     ("random_particles.line_tension_grid", lambda: random_particles.line_tension_grid(10.0, 10**15), 8 * 10**15),
     ("ground_states.box_candidates", lambda: ground_states.box_candidates(HEXAGON, 7, 10**8), 10**16),
+    ("ansatz.finite_aggregates", lambda: ansatz.finite_aggregates(HEXAGON, 10**15), 8 * 4 * 10**15),
+    ("random_particles.edge_energy_profile", lambda: random_particles.edge_energy_profile(HEXAGON, 10**13),
+     8 * 2 * 10**13),
+    ("boundary_layer.finite_depth_boundary_layer_length",
+     lambda: boundary_layer.finite_depth_boundary_layer_length(random_particles.elasticity_matrices(1, 1)[0], 10**13),
+     8 * 2 * 10**13),
 ]
 
 
