@@ -108,7 +108,8 @@ def documented_names(doc: str) -> set[str]:
 
 def documented_parameters_cases():
     for module_name in DOCUMENTED_MODULES:
-        yield from (pytest.param(q, obj, target, id=q) for q, obj, target in public_callables(importlib.import_module(module_name)))
+        module = importlib.import_module(module_name)
+        yield from (pytest.param(q, obj, target, id=q) for q, obj, target in public_callables(module))
 
 
 @pytest.mark.parametrize("name, obj, target", list(documented_parameters_cases()))
