@@ -55,16 +55,16 @@ from ._checks import affordable, integer, non_negative
 
 SQRT3 = np.sqrt(3.0)
 
-# Memory estimates, measured on disks of 0.27 and 1.1 million particles, fibres of 0.2 million
-# and the site builders at R = 3000 (peak resident size over the particles or grid cells), with
-# some headroom: a size whose estimate exceeds the allowed share of memory is refused up front
-# (``_checks.affordable``) instead of dying in numpy's allocator or swapping the machine.
-#: Bytes per particle of a ``Topology`` (the kernel's corner graph; 360 measured).
+# Memory estimates: upper bounds, with some headroom, on the peak memory per particle or grid
+# cell (tests/test_api.py checks each against what building a topology really takes). A size
+# whose estimate exceeds the allowed share of memory is refused up front (``_checks.affordable``)
+# instead of dying in numpy's allocator or swapping the machine.
+#: Bytes per particle of a ``Topology`` (the kernel's corner graph).
 TOPOLOGY_BYTES_PER_PARTICLE = 400
-#: Bytes per lattice cell of the numpy grids the site builders scan (41 to 144 measured).
+#: Bytes per lattice cell of the numpy grids the site builders scan (coordinates, masks, sorts).
 GRID_BYTES_PER_CELL = 160
-#: Bytes per particle of a fibre's connectivity check (Python sets of nine images; 3160 measured,
-#: topology included).
+#: Bytes per particle of a fibre's connectivity check (Python sets of nine images), topology
+#: included.
 FIBER_BYTES_PER_PARTICLE = 3600
 TILINGS = ("hexagon", "triangle")
 _PERIODICITY = {"none": 0, "fiber": 1, "bulk": 2}

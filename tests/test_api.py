@@ -15,6 +15,7 @@ import pkgutil
 import re
 import subprocess
 import sys
+import textwrap
 import tracemalloc
 from pathlib import Path
 
@@ -232,17 +233,56 @@ def test_physical_memory_is_this_machines():
         assert abs(memory - total_kib * 1024) <= 0.01 * memory
 
 
-def test_the_estimates_bound_what_a_moderate_request_really_takes():
-    """The disk's estimate is at least what building it takes (numpy's peak as tracemalloc sees
-    it; the kernel's own memory is counted in TOPOLOGY_BYTES_PER_PARTICLE, measured)."""
-    R = 150
+def traced_peak(build):
+    """``build()`` and the peak of the memory Python and numpy allocated meanwhile (tracemalloc)."""
     tracemalloc.start()
     try:
-        t = topology.disk(R)
+        out = build()
         _, peak = tracemalloc.get_traced_memory()
     finally:
         tracemalloc.stop()
-    estimate = (2 * R + 2) ** 2 * topology.GRID_BYTES_PER_CELL
-    assert t.n_particles == 1 + 3 * R * (R + 1)
-    assert peak <= estimate
-    assert np.isfinite(estimate)
+    return out, peak
+
+
+@pytest.mark.parametrize("build, cells", [
+    pytest.param(lambda: topology.hexagon_sites(300), (2 * 300 + 1) ** 2, id="hexagon_sites"),
+    pytest.param(lambda: topology.triangle_hexagon_sites(300), (2 * 300 + 2) ** 2, id="triangle_hexagon_sites"),
+    pytest.param(lambda: topology.stadium_sites(10000, faceted=True), (4 * (100 + 2) + 1) ** 2, id="stadium_sites"),
+    pytest.param(lambda: topology._triangle_fiber_sites(150, 2), (4 * 150 + 9) ** 2, id="triangle_fiber_cell"),
+])
+def test_the_grid_estimate_bounds_the_site_builders(build, cells):
+    """The numpy grids a site builder scans take at most GRID_BYTES_PER_CELL per cell."""
+    _, peak = traced_peak(build)
+    assert peak <= cells * topology.GRID_BYTES_PER_CELL
+    assert peak >= cells * 8  # and the bound is not vacuous: at least one int64 per cell
+
+
+def test_the_fibre_estimate_bounds_its_connectivity_check():
+    width = 2000
+    fibre, peak = traced_peak(lambda: topology.fiber(width))
+    assert fibre.n_particles == width
+    assert peak <= 2 * width * topology.FIBER_BYTES_PER_PARTICLE
+    assert peak >= width * 9 * 56  # not vacuous: nine images of every site, a tuple each
+
+
+@pytest.mark.skipif(not Path("/proc/self/statm").is_file(), reason="needs Linux's /proc to read resident memory")
+def test_the_topology_estimate_bounds_the_kernels_corner_graph():
+    """The kernel's memory is invisible to tracemalloc: in a fresh process (whose allocator has no
+    freed pages to reuse), resident memory grows by at most TOPOLOGY_BYTES_PER_PARTICLE per
+    particle when the kernel builds a disk of 68 000 particles (tens of megabytes)."""
+    code = textwrap.dedent("""
+        import os
+        from pathlib import Path
+        from pyfrustrate import topology
+        def resident():
+            return int(Path("/proc/self/statm").read_text().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+        sites = topology.hexagon_sites(150)
+        before = resident()
+        t = topology.cluster(sites)
+        print(t.n_particles, resident() - before)
+    """)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd="/", check=True)
+    n_particles, grown = (int(v) for v in done.stdout.split())
+    assert n_particles == 1 + 3 * 150 * 151
+    assert grown <= n_particles * topology.TOPOLOGY_BYTES_PER_PARTICLE
+    assert grown >= n_particles * 2 * 8  # it did build something of that order (corners, two floats each)
