@@ -161,11 +161,12 @@ def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5,
     """Minimise the deformation energy of ``topology`` made of ``particle`` s at fixed topology.
 
     The inner minimisation of main text Eq. 7. The result is the **deformation energy only**: the
-    binding is not included. To compare with the continuum theory, use the continuum at
-    ``Gamma = 0`` (``continuum.fiber_energy(W / ell, nu, 0)``, per unit area in units of
-    ``e_bulk``, is ``energy_per_particle / particle.bulk_energy_per_particle``), or add the
-    binding yourself: the total energy is ``energy - g * n_bonds`` with ``g`` from
-    ``continuum.particle_parameters`` (whose ``convention`` picks how Gamma maps to ``g``).
+    binding is not included. To compare with the continuum theory, take the continuum at
+    ``Gamma = 0``: ``energy_per_particle / particle.bulk_energy_per_particle`` is the energy per
+    unit area in units of ``e_bulk``, to set against e.g. ``continuum.fiber_energy(W / ell, nu,
+    0)`` with ``W`` the topology's ``size``. Or add the binding yourself: the total energy is
+    ``energy - g * n_bonds``, with ``g`` from ``continuum.particle_parameters`` (whose
+    ``convention`` says how Gamma maps to ``g``).
 
     Parameters
     ----------

@@ -355,7 +355,8 @@ class Topology:
         -------
         ndarray, shape (2 n_corners + n_period_parameters,)
             Corner coordinates ``(x0, y0, x1, y1, ...)`` in lattice spacings, then the period
-            parameters (fibre: length and bending angle; bulk: the two period vectors).
+            parameters (fibre: the period vector ``tx, ty`` and, when curved, the bend angle's
+            parameter; bulk: the two period vectors ``t1x, t1y, t2x, t2y``).
         """
         return np.asarray(self.kernel.reference_state())
 
