@@ -27,15 +27,10 @@ Binding conventions. The discrete model binds each pair of touching sides with a
 the continuum's line tension is ``gamma`` (energy per unit length of edge) and ``Gamma`` its
 dimensionless form. How ``gamma`` follows from ``g`` is a convention, chosen by ``convention=``:
 
-=============== =========================== ===============================================
-convention      ``gamma`` from ``g``         use
-=============== =========================== ===============================================
-``measured``    ``gamma = g`` (hexagons),   the default, every figure: the edge energy the
-                ``g / 2`` (triangles)       discrete model has (``ansatz.edge_line_tension``)
-``supplement``  ``gamma = 4 g / sqrt(3)``   the printed formula (hexagons only): the same
-                                            ``Gamma`` means ``sqrt(3)/4 = 0.433`` times the
-                                            binding, so the paper's 0.5 is our 0.217
-=============== =========================== ===============================================
+* ``measured`` (the default, every figure): ``gamma = g`` on hexagons, ``g / 2`` on triangles,
+  the edge energy the discrete model has (``ansatz.edge_line_tension``);
+* ``supplement``: the printed ``gamma = 4 g / sqrt(3)`` (hexagons only). The same ``Gamma`` then
+  means a binding ``sqrt(3)/4 = 0.433`` times the measured one: the paper's 0.5 is our 0.217.
 
 Routes between them: ``particle_parameters(ell, nu, Gamma, convention=...).g`` (``Gamma`` to
 ``g``), ``mapping(k, kc, k_area, g, eps, convention=...).Gamma`` (``g`` to ``Gamma``),
