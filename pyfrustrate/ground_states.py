@@ -259,7 +259,7 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
     # Occupancy grids and placement offsets per box cell (a list of tuples, the largest), the
     # topologies of n particles and the grids their shapes are cut from.
     _checks.affordable(f"box_candidates(n={n}, box={box})", box * box * 64 + n * (
-        topology.TOPOLOGY_BYTES_PER_PARTICLE + 16 * topology.GRID_BYTES_PER_CELL))
+        topology.TOPOLOGY_BYTES_PER_PARTICLE + 16 * topology.GRID_BYTES_PER_CELL["stadium_sites"]))
     if n >= box * box:
         raise ValueError(f"n must be smaller than the box's {box * box} sites, got {n}")
     counts = aggregate_counts(n, max_aggregates)  # checks max_aggregates before any relaxation

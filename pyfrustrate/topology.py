@@ -61,8 +61,9 @@ SQRT3 = np.sqrt(3.0)
 # instead of dying in numpy's allocator or swapping the machine.
 #: Bytes per particle of a ``Topology`` (the kernel's corner graph).
 TOPOLOGY_BYTES_PER_PARTICLE = 400
-#: Bytes per lattice cell of the numpy grids the site builders scan (coordinates, masks, sorts).
-GRID_BYTES_PER_CELL = 160
+#: Bytes per lattice cell of the numpy grids each site builder scans (coordinates, masks, sorts).
+GRID_BYTES_PER_CELL = {"hexagon_sites": 48, "triangle_hexagon_sites": 104, "stadium_sites": 120,
+                       "triangle_fiber": 160}
 #: Bytes per particle of a fibre's connectivity check (Python sets of nine images), topology
 #: included.
 FIBER_BYTES_PER_PARTICLE = 3600
@@ -426,7 +427,7 @@ def hexagon_sites(R: int) -> np.ndarray:
         If ``R`` is not a non-negative integer, or too large for memory.
     """
     R = _whole("R", R, 0)
-    affordable(f"hexagon_sites(R={R})", (2 * R + 1) ** 2 * GRID_BYTES_PER_CELL)
+    affordable(f"hexagon_sites(R={R})", (2 * R + 1) ** 2 * GRID_BYTES_PER_CELL["hexagon_sites"])
     r = np.arange(-R, R + 1)
     i, j = np.meshgrid(r, r, indexing="ij")
     keep = np.abs(i + j) <= R
@@ -453,7 +454,7 @@ def triangle_hexagon_sites(R: int) -> np.ndarray:
         If ``R`` is not a non-negative integer, or too large for memory.
     """
     R = _whole("R", R, 0)
-    affordable(f"triangle_hexagon_sites(R={R})", (2 * R + 2) ** 2 * GRID_BYTES_PER_CELL)
+    affordable(f"triangle_hexagon_sites(R={R})", (2 * R + 2) ** 2 * GRID_BYTES_PER_CELL["triangle_hexagon_sites"])
     r = np.arange(-R - 1, R + 1)
     i, j = (a.ravel() for a in np.meshgrid(r, r, indexing="ij"))
 
@@ -501,8 +502,11 @@ def disk(R: int, tiling: str = "hexagon") -> Topology:
     """
     R = _whole("R", R, 0)
     facts = tiling_facts(tiling)
-    n_particles = 1 + 3 * R * (R + 1) if facts["sublattices"] == 1 else max(1, 6 * R * R)
-    affordable(f"disk(R={R})", (2 * R + 2) ** 2 * GRID_BYTES_PER_CELL + n_particles * TOPOLOGY_BYTES_PER_PARTICLE)
+    if facts["sublattices"] == 1:
+        n_particles, grid = 1 + 3 * R * (R + 1), (2 * R + 1) ** 2 * GRID_BYTES_PER_CELL["hexagon_sites"]
+    else:
+        n_particles, grid = max(1, 6 * R * R), (2 * R + 2) ** 2 * GRID_BYTES_PER_CELL["triangle_hexagon_sites"]
+    affordable(f"disk(R={R})", grid + n_particles * TOPOLOGY_BYTES_PER_PARTICLE)
     if facts["sublattices"] == 1:
         sites = hexagon_sites(int(R))
     else:
@@ -559,7 +563,7 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.nda
     segment = non_negative("segment", segment)
     # Enough rows and columns to hold n sites around the segment.
     half = int(np.ceil(segment / 2 + np.sqrt(n))) + 2
-    affordable(f"stadium_sites(n={n}, segment={segment:g})", (4 * half + 1) ** 2 * GRID_BYTES_PER_CELL)
+    affordable(f"stadium_sites(n={n}, segment={segment:g})", (4 * half + 1) ** 2 * GRID_BYTES_PER_CELL["stadium_sites"])
     r = np.arange(-2 * half, 2 * half + 1)
     i, j = np.meshgrid(r, r, indexing="ij")
     sites = np.column_stack([i.ravel(), j.ravel()])
@@ -787,7 +791,7 @@ def fiber(width: int, cut: int = 0, curved: bool = True, tiling: str = "hexagon"
     tiling_facts(tiling)
     axis = fiber_axis(cut, tiling)
     width = _whole("width", width, 1)
-    grid = (4 * width + 9) ** 2 * GRID_BYTES_PER_CELL if tiling == "triangle" and cut == 2 else 0
+    grid = (4 * width + 9) ** 2 * GRID_BYTES_PER_CELL["triangle_fiber"] if tiling == "triangle" and cut == 2 else 0
     affordable(f"fiber(width={width})", grid + 2 * width * FIBER_BYTES_PER_PARTICLE)
     sites = _fiber_cell(int(width), cut, tiling)
     if not _strip_is_connected(sites, axis, tiling):
