@@ -90,7 +90,8 @@ def panel_bulk(fig, d):
 
 def panel_diagram(fig, diagram, continuum, runs):
     ax = fig.add_axes([0.07, 0.33, 0.36, 0.33])
-    plotting.draw_ansatz_diagram(fig, ax, diagram, continuum)
+    _, phases = plotting.draw_ansatz_diagram(ax, diagram, continuum)
+    plotting.phase_legend(ax, phases, dashed_continuum=True)
     gas = np.asarray(diagram["gas_Gamma"])
     ax.text(0.98, 0.03, rf"$\ell = {float(diagram['ell']):g}$", transform=ax.transAxes, fontsize=9, color="w", ha="right")
     inset = ax.inset_axes([0.69, 0.5, 0.28, 0.3])

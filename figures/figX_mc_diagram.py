@@ -85,7 +85,8 @@ def main(mc_path, diagram_path, continuum_path, outputs):
     n = int(mc["n"][0])
     fig = plotting.figure(17.8, 11.0)
     ax = fig.add_axes([0.07, 0.12, 0.68, 0.74])
-    plotting.draw_ansatz_diagram(fig, ax, load_npz(diagram_path), load_npz(continuum_path))
+    _, phases = plotting.draw_ansatz_diagram(ax, load_npz(diagram_path), load_npz(continuum_path))
+    plotting.phase_legend(ax, phases, dashed_continuum=True)
     for mesh in ax.collections:
         mesh.set_alpha(0.35)
     draw_elongated_bands(ax, mc)

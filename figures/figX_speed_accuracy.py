@@ -31,7 +31,7 @@ def main(csv_path, outputs):
         panels[(r["topology"], r["nu"], r["eps"])].append(r)
     keys = sorted(panels)
     cols = min(2, len(keys))
-    fig = plotting.figure(14.0, 5.5 * ((len(keys) + cols - 1) // cols))
+    fig = plotting.figure(17.8, 5.5 * ((len(keys) + cols - 1) // cols))
     for n, key in enumerate(keys):
         ax = fig.add_subplot((len(keys) + cols - 1) // cols, cols, n + 1)
         series = defaultdict(list)
