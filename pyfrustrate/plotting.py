@@ -109,9 +109,16 @@ def save(fig, outputs, provenance: dict | None = None) -> None:
     plt.close(fig)
 
 
-def panel_label(ax, label: str, dx_pt: float = -4.0, dy_pt: float = 3.0):
+def panel_label(ax, label: str, dx_pt: float = -4.0, dy_pt: float = 3.0, at_cm: tuple | None = None):
     """The panel letter "(a)", bold, in one place: just above and left of the axes' top-left
-    corner (``dx_pt``, ``dy_pt``: an offset in points, for a panel whose tick labels reach there)."""
+    corner (``dx_pt``, ``dy_pt``: an offset in points, for a panel whose tick labels reach there);
+    or, for drawings whose equal aspect shrinks the axes, at ``at_cm`` (x, y in cm on the page,
+    the letter's top-left corner), so that a row of drawings has its letters on one line."""
+    if at_cm is not None:
+        fig = ax.figure
+        width_cm, height_cm = (x * 2.54 for x in fig.get_size_inches())
+        return fig.text(at_cm[0] / width_cm, at_cm[1] / height_cm, f"({label})", ha="left", va="top",
+                        fontweight="bold", fontsize=PANEL_LETTER_PT)
     return ax.annotate(f"({label})", xy=(0, 1), xycoords="axes fraction", xytext=(dx_pt, dy_pt),
                        textcoords="offset points", ha="right", va="bottom", fontweight="bold",
                        fontsize=PANEL_LETTER_PT)
@@ -388,14 +395,14 @@ def _drawn_texts(fig):
     """Every text the figure prints, with its kind: "text" (labels, ticks, titles, legends:
     at least ``MIN_TEXT_PT``) or "annotation" (free text placed in or beside an axes: at least
     ``MIN_ANNOTATION_PT``). Tick labels only of the ticks drawn (inside the view limits)."""
-    from matplotlib.text import Annotation, Text
+    from matplotlib.text import Text
 
     texts = []
     for ax in fig.axes:
         if not ax.get_visible():
             continue
         for axis in (ax.xaxis, ax.yaxis):
-            if not axis.get_visible():
+            if not (ax.axison and axis.get_visible()):  # ax.axis("off") hides the axes' axis artists
                 continue
             for tick in axis._update_ticks():  # the ticks matplotlib draws (private, stable since 3.1)
                 texts += [(label, "text") for label in (tick.label1, tick.label2) if label.get_visible()]
@@ -414,7 +421,7 @@ def _drawn_texts(fig):
     for t, kind in texts:
         if not (isinstance(t, Text) and t.get_visible() and t.get_text().strip()):
             continue
-        if isinstance(t, Annotation) and t.get_fontweight() == "bold":
+        if t.get_fontweight() == "bold" and t.get_text().startswith("("):
             kind = "text"  # panel letters
         shown.append((t, kind))
     return shown
