@@ -165,3 +165,25 @@ def test_built_figure(png):
     problems, size_cm = _stored_check(png)
     _assert_print_size(size_cm)
     assert problems == []
+
+
+def test_classifier_calls_two_fused_disks_a_fibre():
+    """figX_mc_diagram colours each run by montecarlo.classify_aggregate, which calls a finite
+    aggregate a fibre when its gyration anisotropy exceeds ELONGATION_THRESHOLD. Two compact
+    disks fused along a side pass that threshold (two touching circles of radius r: principal
+    variances 5 r^2/4 and r^2/4, anisotropy sqrt(5) = 2.24), so a run that ends in two merged,
+    not yet rounded disks is drawn as a fibre: the marker reads the shape, not the phase."""
+    from pyfrustrate import topology
+    from pyfrustrate.montecarlo import ELONGATION_THRESHOLD, classify_aggregate
+
+    box, radius = 40, 3
+    disk = topology.hexagon_sites(radius)
+    width = np.ptp(disk[:, 0]) + 1
+    fused = np.unique(np.vstack([disk + 10, disk + (10 + width, 10)]), axis=0)
+    assert classify_aggregate(disk + 10, box)[0] == "disk"
+    kind, size = classify_aggregate(fused, box)
+    assert size == 2 * len(disk)
+    xy = topology.site_positions(fused)
+    small, large = np.linalg.eigvalsh(np.cov(xy.T))
+    assert np.sqrt(large / small) > ELONGATION_THRESHOLD
+    assert kind == "fiber"
