@@ -13,7 +13,7 @@ def main(size_paths, outputs):
     d = {k: np.concatenate([s[k] for s in parts]) for k in
          ("width_relative", "radius_relative", "width_relative_capped", "radius_relative_capped", "ell")}
     x = parts[0]["Gamma_relative"]
-    fig = plotting.figure(17.8, 7.0)
+    fig = plotting.figure(plotting.PAGE_WIDTH_CM, 7.0)
     for col, (key, symbol, kind) in enumerate((("width_relative", "W", "fiber"), ("radius_relative", "R", "disk"))):
         ax = fig.add_subplot(1, 2, col + 1)
         for row, capped in zip(d[key], d[f"{key}_capped"]):
@@ -26,8 +26,9 @@ def main(size_paths, outputs):
         ax.set_xlim(0, 1)
         ax.set_ylim(0, None)
         ax.set_xlabel(r"$\Gamma/\Gamma_\mathrm{max}$")
-        ax.set_ylabel(rf"${symbol}^*$ (particle spacings)")
-        ax.set_title(f"best {'fibre' if kind == 'fiber' else 'disk'}, {len(d['ell'])} random particles", fontsize=8)
+        ax.set_ylabel(rf"${symbol}^*$ ({plotting.LENGTH_UNIT})")
+        ax.set_title(f"best {'fibre' if kind == 'fiber' else 'disk'}, {len(d['ell'])} random particles")
+        plotting.panel_label(ax, "ab"[col])
     fig.tight_layout()
     plotting.save(fig, outputs)
 

@@ -359,6 +359,22 @@ def phase_legend(ax, phases, dashed_continuum: bool = False, **kwargs):
     return ax.legend(handles=handles, **kwargs)
 
 
+def shade_phases(ax, x_edges, y_edges, phase, length_over_ell, **kwargs) -> dict:
+    """Cells of a diagram coloured by their phase (``phase``: names, 2D), fibres and disks shaded
+    by W*/ell and R*/ell (``length_over_ell``, same shape) on ``size_norm``'s scale, the other
+    phases flat. Returns the fibre and disk meshes, for ``size_colorbars``."""
+    norm = size_norm()
+    meshes = {}
+    for name in ("fiber", "disk"):
+        field = np.ma.masked_where(phase != name, np.clip(length_over_ell, norm.vmin, None))
+        meshes[name] = ax.pcolormesh(x_edges, y_edges, field, cmap=shaded_colormap(PHASE_COLORS[name]), norm=norm,
+                                     **kwargs)
+    for name in ("bulk", "bulk_with_holes", "gas"):
+        field = np.ma.masked_where(phase != name, np.ones(phase.shape))
+        ax.pcolormesh(x_edges, y_edges, field, cmap=shaded_colormap(PHASE_COLORS[name]), vmin=0, vmax=1, **kwargs)
+    return meshes
+
+
 def draw_ansatz_diagram(ax, diagram: dict, continuum: dict):
     """Numerical phase diagram (Figs. 3b, S1): cells coloured by the winning aggregate (black bulk
     with holes, red disk, blue fibre, purple bulk), disks and fibres shaded by the winner's
@@ -373,14 +389,7 @@ def draw_ansatz_diagram(ax, diagram: dict, continuum: dict):
         return np.concatenate([[x[0] - (mid[0] - x[0])], mid, [x[-1] + (x[-1] - mid[-1])]])
 
     nu_edges, G_edges = np.clip(edges(nu), 0, 1), np.clip(edges(G), 0, None)
-    norm = size_norm()
-    meshes = {}
-    for name in ("fiber", "disk"):
-        field = np.ma.masked_where(phase != name, np.clip(length / ell, norm.vmin, None))
-        meshes[name] = ax.pcolormesh(G_edges, nu_edges, field, cmap=shaded_colormap(PHASE_COLORS[name]), norm=norm)
-    for name in ("bulk", "bulk_with_holes", "gas"):
-        field = np.ma.masked_where(phase != name, np.ones(phase.shape))
-        ax.pcolormesh(G_edges, nu_edges, field, cmap=shaded_colormap(PHASE_COLORS[name]), vmin=0, vmax=1)
+    meshes = shade_phases(ax, G_edges, nu_edges, phase, length / ell)
     draw_continuum_boundaries(ax, continuum, dashed=True)
     ax.set_xlim(G_edges[0], G_edges[-1])
     ax.set_ylim(0, 1)
