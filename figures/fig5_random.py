@@ -43,10 +43,11 @@ def draw_profile(fig, strip_ax, ax, fits):
         ax.semilogy(d, excess[anchor] * np.exp(-(d - d[anchor]) / length), style, color="#d3002d", lw=1,
                     label=rf"{label}: $\ell={length:.2f}$")
     ax.set_ylim(max(excess[ok].min(), 1e-8), 2 * excess.max())
-    ax.set_xlim(0, min(d[-1], 8 * fits["example_ell"]))
+    ax.set_xlim(-0.05 * min(d[-1], 8 * fits["example_ell"]), min(d[-1], 8 * fits["example_ell"]))  # 0 clear of the corner
     ax.set_xlabel(f"distance from the edge ({plotting.LENGTH_UNIT})")
+    ax.set_title("excess energy per particle")
     ax.set_ylabel(r"$|e - e_\mathrm{bulk}|/e_\mathrm{bulk}$")
-    ax.legend(loc="upper right")
+    ax.legend(loc="lower left")
 
 
 def draw_ell(ax, summary):
@@ -179,8 +180,8 @@ def main(summary_path, fits_path, size_paths, outputs):
     ax = fig.add_axes(rect(0.2, 17.6, 4.2, 4.4))
     draw_distances(ax)
     plotting.panel_label(ax, "a", at_cm=(0.1, height - 0.1))
-    strip = fig.add_axes(rect(5.0, 17.4, 6.4, 4.6))
-    profile = fig.add_axes(rect(13.0, 18.0, 4.5, 3.9))
+    strip = fig.add_axes(rect(4.8, 17.4, 5.6, 4.6))
+    profile = fig.add_axes(rect(12.0, 18.0, 5.5, 3.9))
     draw_profile(fig, strip, profile, fits)
     plotting.panel_label(strip, "b", at_cm=(4.8, height - 0.1))
 

@@ -38,8 +38,8 @@ def main(paths, edges, outputs):
     cmap = ListedColormap([plotting.PHASE_COLORS[p] for p in rp.PHASE_CODES])
     width_cm, height_cm = plotting.PAGE_WIDTH_CM, 7.6
     fig = plotting.figure(width_cm, height_cm)
-    panel_w, gap = 4.3, 0.45
-    axes = [fig.add_axes([(1.2 + i * (panel_w + gap)) / width_cm, 1.1 / height_cm, panel_w / width_cm, 4.9 / height_cm])
+    panel_w, gap = 4.2, 0.4
+    axes = [fig.add_axes([(1.45 + i * (panel_w + gap)) / width_cm, 1.1 / height_cm, panel_w / width_cm, 4.9 / height_cm])
             for i in range(len(group_paths))]
     for i, (ax, paths) in enumerate(zip(axes, group_paths)):
         parts = [load_npz(p) for p in paths]
@@ -81,8 +81,8 @@ def main(paths, edges, outputs):
             ax.tick_params(labelleft=False)
         plotting.panel_label(ax, "abcdef"[i])
     axes[0].set_ylabel(r"Poisson ratio $\nu$ (pseudo-moduli)")
-    plotting.phase_legend(axes[1], rp.PHASE_CODES, ncol=4, bbox_to_anchor=(0.5, 1.16))
-    plotting.size_colorbars(fig, meshes, (15.6, 1.1, 4.4), gap_cm=1.1)
+    plotting.phase_legend(axes[1], rp.PHASE_CODES, ncol=4, bbox_to_anchor=(0.5, 1.1))
+    plotting.size_colorbars(fig, meshes, (15.5, 1.1, 4.4), gap_cm=1.1)
     plotting.save(fig, outputs)
 
 

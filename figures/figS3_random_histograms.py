@@ -29,14 +29,14 @@ def main(summary_path, selection_path, edges, outputs):
         nu = sel[f"group{i}_nu"]
         hi = "\\infty" if edges[i + 1] > 1e6 else f"{edges[i + 1]:g}"
         ax.stairs(s[f"group{i}_nu_density"], s["nu_edges"], color=colors[i % 4], lw=0.8, alpha=0.8,
-                  label=rf"$\ell\in[{edges[i]:g},{hi})$: all ({100 * float(s[f'group{i}_fraction']):.2g} % of draws)")
+                  label=rf"$\ell\in[{edges[i]:g},{hi})$: all, {100 * float(s[f'group{i}_fraction']):.2g} % of draws")
         ax.hist(nu, bins, density=True, histtype="step", color=colors[i % 4], lw=1.4, ls="--",
-                label=f"selected: {len(nu)}")
+                label=f"    selected: {len(nu)} particles")
     ax.set_xlabel(r"Poisson ratio $\nu$")
     ax.set_ylabel("probability density")
-    ax.legend(ncol=2, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    ax.legend(ncol=1, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     plotting.panel_label(ax, "b")
-    fig.subplots_adjust(left=0.07, right=0.6, bottom=0.17, top=0.9, wspace=0.3)
+    fig.subplots_adjust(left=0.07, right=0.66, bottom=0.17, top=0.9, wspace=0.3)
     plotting.save(fig, outputs)
 
 

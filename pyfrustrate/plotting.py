@@ -469,6 +469,6 @@ def check_figure(fig, overlap_px: float = 1.0) -> list[str]:
             if dx > overlap_px and dy > overlap_px:
                 problems.append(f"texts {a.get_text()!r} and {b.get_text()!r} overlap")
     for ax in fig.axes:
-        if ax.get_visible() and not (ax.has_data() or ax.images or ax.texts):
+        if ax.get_visible() and not (ax.has_data() or ax.images or ax.texts or ax.get_legend()):
             problems.append(f"an empty axes at {tuple(round(v, 2) for v in ax.get_position().bounds)}")
     return problems
