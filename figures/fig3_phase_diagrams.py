@@ -1,4 +1,4 @@
-"""Fig. 3: (a) the continuum phase diagram in the (Gamma, nu) plane (main text Eqs. 8, 10, 13),
+"""Fig. 3: (a) the continuum phase diagram in the (Gamma, nu) plane (main text Eqs. 8, 11, 13),
 shaded by the optimal fibre width W*/ell and disk radius R*/ell, each line drawn only where it is
 a phase boundary; (b) the phase diagram of the pre-made aggregates of Fig. 4a at ell = 5 on the
 same colour scales, with the continuum boundaries dashed, and the Monte Carlo runs at the

@@ -63,6 +63,11 @@ LABELS = {
 }
 
 
+# How the box structures of ground_states.FAMILIES (and "bulk") are written in figures.
+STRUCTURE_LABELS = {"single": "one aggregate", "wrapping_fiber": "fibre around the box",
+                    "aggregates": "several aggregates", "gas": "gas", "bulk": "bulk"}
+
+
 def box_label(box: int) -> str:
     """A periodic box of ``box`` x ``box`` sites, written one way in every figure."""
     return rf"{int(box)}$\times${int(box)}"
