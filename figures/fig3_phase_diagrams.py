@@ -90,7 +90,8 @@ def main(diagram_path, continuum_path, snapshot_paths, dense, sweeps, convention
         sub.set_title(run_title(k, r, convention), fontsize=7, pad=2)
         sub.text(0.03, 0.03, f"{BOX_MARKERS[kind][1]} {int(r['n'])} in {plotting.box_label(int(r['box']))}, "
                  f"{sweeps[kind]} sweeps",
-                 transform=sub.transAxes, fontsize=6, va="bottom")
+                 transform=sub.transAxes, fontsize=6, va="bottom", zorder=10,
+                 bbox=dict(boxstyle="round,pad=0.15", fc="w", ec="none", alpha=0.85))
     plotting.save(fig, outputs)
 
 
