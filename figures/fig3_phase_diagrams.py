@@ -11,6 +11,7 @@ supplement's convention, gamma = 4 g/sqrt(3): each is drawn on our diagram at it
 import numpy as np
 
 from pyfrustrate import plotting
+from pyfrustrate.ansatz import energy_above_best_single
 from pyfrustrate.io import load_npz, logging_to
 from pyfrustrate.montecarlo import largest_cluster_extent
 
@@ -29,8 +30,18 @@ def run_title(k, run, convention):
     return rf"{k}: $\Gamma_{{\rm paper}}$ = {G:g} ($\Gamma$ = {float(run['Gamma_measured']):.2f}), $\nu$ = {nu:g}{seed}"
 
 
-def main(diagram_path, continuum_path, snapshot_paths, dense, sweeps, convention, outputs):
+def gap_to_best_single(run, finite) -> float:
+    """The run's final energy above the best single aggregate of its number of particles at its
+    nu and g, in bulk particle energies."""
+    match = [f for f in finite if int(f["n"]) == int(run["n"]) and abs(float(f["nu"]) - float(run["nu"])) < 1e-9]
+    if not match:
+        raise ValueError(f"finite_paths: no prediction for n = {int(run['n'])}, nu = {float(run['nu']):g}")
+    return energy_above_best_single(run["energy"], run["g"], match[0])
+
+
+def main(diagram_path, continuum_path, snapshot_paths, finite_paths, dense, sweeps, convention, outputs):
     diagram, continuum = load_npz(diagram_path), load_npz(continuum_path)
+    finite = [load_npz(p) for p in finite_paths]
     runs = sorted((load_npz(p) for p in snapshot_paths),
                   key=lambda r: (-float(r["nu"]), float(r["Gamma"]), int(r["seed"])))
     kinds = ["dense" if (int(r["n"]), int(r["box"])) == tuple(dense) else "sparse" for r in runs]
@@ -65,8 +76,9 @@ def main(diagram_path, continuum_path, snapshot_paths, dense, sweeps, convention
         ax_b.annotate(str(k), point, xytext=(4 + 6 * shift, 3), textcoords="offset points", fontsize=7,
                       color="w", fontweight="normal", zorder=7)
 
-    fig.text(0.1 / WIDTH_CM, (snap_top + 0.1) / height, "Monte Carlo snapshots at the numbered symbols of (b)",
-             va="bottom", fontsize=7)
+    fig.text(0.1 / WIDTH_CM, (snap_top + 0.1) / height,
+             "Monte Carlo snapshots at the symbols of (b).   $\\Delta E$: final energy above the best single aggregate, "
+             "in bulk particle energies $e_b$", va="bottom", fontsize=7)
     # Every panel on one scale, so that widths compare across panels: the largest extent of any
     # run's largest cluster, placed as draw_snapshot places it (centre in the box).
     aspect = SNAPSHOT_CM / (WIDTH_CM / COLS - 0.15)
@@ -89,7 +101,7 @@ def main(diagram_path, continuum_path, snapshot_paths, dense, sweeps, convention
             spine.set_color("0.6")
         sub.set_title(run_title(k, r, convention), fontsize=7, pad=2)
         sub.text(0.03, 0.03, f"{BOX_MARKERS[kind][1]} {int(r['n'])} in {plotting.box_label(int(r['box']))}, "
-                 f"{sweeps[kind]} sweeps",
+                 f"{sweeps[kind]} sweeps\n" rf"$\Delta E$ = {gap_to_best_single(r, finite):+.1f} $e_b$",
                  transform=sub.transAxes, fontsize=6, va="bottom", zorder=10,
                  bbox=dict(boxstyle="round,pad=0.15", fc="w", ec="none", alpha=0.85))
     plotting.save(fig, outputs)
@@ -98,5 +110,6 @@ def main(diagram_path, continuum_path, snapshot_paths, dense, sweeps, convention
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         main(snakemake.input.diagram, snakemake.input.continuum[0], snakemake.input.snapshots,  # noqa: F821
+             snakemake.input.finite,  # noqa: F821
              snakemake.params.dense, snakemake.params.sweeps, snakemake.params.convention,  # noqa: F821
              [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
