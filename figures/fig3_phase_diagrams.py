@@ -11,7 +11,6 @@ supplement's convention, gamma = 4 g/sqrt(3): each is drawn on our diagram at it
 import numpy as np
 
 from pyfrustrate import plotting
-from pyfrustrate.ansatz import energy_above_best_single
 from pyfrustrate.io import load_npz, logging_to
 from pyfrustrate.montecarlo import largest_cluster_extent
 
@@ -31,12 +30,10 @@ def run_title(k, run, convention):
 
 
 def gap_to_best_single(run, finite) -> float:
-    """The run's final energy above the best single aggregate of its number of particles at its
-    nu and g, in bulk particle energies."""
-    match = [f for f in finite if int(f["n"]) == int(run["n"]) and abs(float(f["nu"]) - float(run["nu"])) < 1e-9]
-    if not match:
+    gap = plotting.gap_to_best_single(run, finite)
+    if gap is None:
         raise ValueError(f"finite_paths: no prediction for n = {int(run['n'])}, nu = {float(run['nu']):g}")
-    return energy_above_best_single(run["energy"], run["g"], match[0])
+    return gap
 
 
 def main(diagram_path, continuum_path, snapshot_paths, finite_paths, dense, sweeps, convention, outputs):

@@ -13,7 +13,6 @@ final energy above the best single aggregate of the same n (a measure of how far
 import numpy as np
 
 from pyfrustrate import continuum, plotting
-from pyfrustrate.ansatz import energy_above_best_single
 from pyfrustrate.io import load_npz, logging_to
 from pyfrustrate.montecarlo import clusters
 from pyfrustrate.topology import gyration_dimensions, site_positions
@@ -23,15 +22,6 @@ def largest_aggregate(run):
     box = int(run["box"])
     coords, rank = clusters(run["sites"], box)[0]
     return coords, rank
-
-
-def gap_to_best(run, finite):
-    """Final Monte Carlo energy minus the best single aggregate of the same n and nu at the run's g,
-    in bulk particle energies (None without a matching prediction)."""
-    for f in finite:
-        if int(f["n"]) == int(run["n"]) and abs(float(f["nu"]) - float(run["nu"])) < 1e-9:
-            return energy_above_best_single(run["energy"], run["g"], f)
-    return None
 
 
 def main(run_paths, finite_paths, outputs):
@@ -102,7 +92,7 @@ def main(run_paths, finite_paths, outputs):
         sub.set_yticks([])
         w, l = gyration_dimensions(coords)
         wrap = ", wraps" if rank else ""
-        gap = gap_to_best(r, finite)
+        gap = plotting.gap_to_best_single(r, finite)
         gap = "" if gap is None else rf", $\Delta E$ = {gap:+.0f}"
         sub.set_title(rf"$\Gamma$ = {float(r['Gamma']):g}, $\nu$ = {float(r['nu']):g}: {len(coords)} particles" "\n"
                       rf"$W$ = {w:.0f}, $L$ = {l:.0f}{wrap}{gap}")

@@ -68,6 +68,19 @@ STRUCTURE_LABELS = {"single": "one aggregate", "wrapping_fiber": "fibre around t
                     "aggregates": "several aggregates", "gas": "gas", "bulk": "bulk"}
 
 
+def gap_to_best_single(run, predictions):
+    """A Monte Carlo run's final energy above the best single aggregate of as many particles at
+    its nu and g (``ansatz.energy_above_best_single``), in bulk particle energies, from the
+    finite-size ``predictions`` (files of the montecarlo_finite_aggregates rule); None when none
+    matches the run's particle number and nu."""
+    from .ansatz import energy_above_best_single
+
+    for f in predictions:
+        if int(f["n"]) == int(run["n"]) and abs(float(f["nu"]) - float(run["nu"])) < 1e-9:
+            return energy_above_best_single(run["energy"], run["g"], f)
+    return None
+
+
 def box_label(box: int) -> str:
     """A periodic box of ``box`` x ``box`` sites, written one way in every figure."""
     return rf"{int(box)}$\times${int(box)}"
