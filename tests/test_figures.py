@@ -3,8 +3,9 @@
 1. The checker itself, on figures made to pass and made to fail each check (page size, type size,
    overlapping text, text off the page, an empty axes).
 2. Figures drawn from scratch by their own scripts on small inputs computed here by the
-   workflow's own scripts (Fig. 1: the chain; Fig. 3a: the continuum diagram), as Snakemake
-   runs them: a ``snakemake`` object with the rule's input, output, params and log.
+   workflow's own scripts (Fig. 1: the chain; Fig. S4, which needs none; the continuum diagram,
+   panel (a) of Fig. 3), as Snakemake runs them: a ``snakemake`` object with the rule's input,
+   output, params and log.
 3. Every figure of a workflow build found in ``results/figures/`` (``bash scripts/figures.sh``):
    its page size from the PNG, and the findings ``plotting.save`` stored in it when it drew the
    figure. Skipped on a clone that has not built the figures.
@@ -139,6 +140,13 @@ def test_fig1_drawn_from_scratch(tmp_path):
     _run("workflow/scripts/chain_profiles.py", "chain_profiles", tmp_path, _Named([str(data)]), _Named([str(data)]),
          params)
     problems, size_cm = _drawn(tmp_path, "fig1_chain", "figures/fig1_chain.py", _Named([str(data)]))
+    assert problems == []
+    _assert_print_size(size_cm)
+
+
+def test_figS4_drawn_from_scratch(tmp_path):
+    """Fig. S4 computes its own inputs (the pseudo-moduli of a simple particle)."""
+    problems, size_cm = _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", _Named())
     assert problems == []
     _assert_print_size(size_cm)
 
