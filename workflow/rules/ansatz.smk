@@ -75,14 +75,6 @@ rule ansatz_shapes:
         "../scripts/ansatz_shapes.py"
 
 
-def fig3_finite_files():
-    """The finite-size prediction of each Monte Carlo run of Fig. 3 (the best single aggregate of
-    its number of particles at its nu), against which its snapshot states its final energy."""
-    sparse_nus = {MC["fiber_scan_nu"], *MC["nu_scan_nu"], MC["extra_seed_point"][1]}
-    return sorted({finite_aggregate_file(MC["n"], nu) for nu in sparse_nus}
-                  | {finite_aggregate_file(MC["dense_n"], MC["disk_scan_nu"])})
-
-
 rule fig3_phase_diagrams:
     input:
         diagram=f"results/ansatz/diagram_ell{ANSATZ['fig3b_ell']:g}.npz",
