@@ -47,13 +47,13 @@ def main(csv_path, outputs):
         ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
         ax.xaxis.set_minor_formatter(NullFormatter())
         ax.axhline(1e-8, color="0.7", lw=0.6, ls=":", zorder=0)
-        ax.set_title(rf"{key[0].replace('_', ' ')}, $\nu$ = {key[1]}, $\epsilon$ = {key[2]}")
+        ax.set_title(rf"{key[0].replace('_', ' ').replace('=', ' = ')}, $\nu$ = {key[1]}, $\epsilon$ = {key[2]}")
+        plotting.panel_label(ax, "abcdefgh"[n])
         ax.set_xlabel("time (ms)")
         if n % cols == 0:
             ax.set_ylabel("relative energy error")
-        if n == 0:
-            ax.legend(loc="upper right")
-    fig.tight_layout()
+    fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="upper center", ncol=4)
+    fig.tight_layout(rect=(0, 0, 1, 0.93))
     plotting.save(fig, outputs)
 
 
