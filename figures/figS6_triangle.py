@@ -54,6 +54,7 @@ def draw_springs(ax, corners, springs, kinds, linewidth=1.0, nodes=True, markers
 
 
 WIDTH_CM, HEIGHT_CM = plotting.PAGE_WIDTH_CM, 22.6
+SNAPSHOT_CM, CATALOGUE_HALF_WINDOW = 2.2, 5.0
 
 
 def rect(left, bottom, w, h):
@@ -102,14 +103,14 @@ def panel_bulk(fig, d, top):
 
 
 def panel_diagram(fig, diagram, continuum, runs, top):
-    ax = fig.add_axes(rect(1.3, top - 6.6, 7.4, 5.6))
+    ax = fig.add_axes(rect(1.3, top - 6.0, 7.4, 5.0))
     meshes, phases = plotting.draw_ansatz_diagram(ax, diagram, continuum)
     plotting.phase_legend(ax, sorted(set(phases) | {"gas"}, key=list(plotting.PHASE_LABELS).index),
                           dashed_continuum=True, ncol=3, bbox_to_anchor=(0.7, 1.0))
-    plotting.size_colorbars(fig, meshes, (9.4, top - 6.6, 4.9), gap_cm=1.15)
+    plotting.size_colorbars(fig, meshes, (9.4, top - 6.0, 4.3), gap_cm=1.15)
     gas = np.asarray(diagram["gas_Gamma"])
     ax.text(0.98, 0.03, rf"$\ell$ = {float(diagram['ell']):g}", transform=ax.transAxes, color="w", ha="right")
-    inset = fig.add_axes(rect(12.2, top - 6.6, 3.6, 4.9))
+    inset = fig.add_axes(rect(12.2, top - 6.0, 3.6, 4.3))
     inset.semilogx(gas, diagram["nu"], color="k", lw=1.0)
     inset.fill_betweenx(diagram["nu"], 1e-5, gas, color=plotting.PHASE_COLORS["gas"])
     inset.set_xlim(1e-4, 1e-1)
@@ -129,7 +130,7 @@ def panel_diagram(fig, diagram, continuum, runs, top):
 
 def panel_snapshots(fig, runs, top):
     cols = 4
-    panel_w, panel_h = WIDTH_CM / cols, 2.6
+    panel_w, panel_h = WIDTH_CM / cols, SNAPSHOT_CM
     for k, r in enumerate(runs, start=1):
         i, j = divmod(k - 1, cols)
         sub = fig.add_axes(rect(j * panel_w + 0.1, top - (i + 1) * (panel_h + 0.55), panel_w - 0.2, panel_h))
@@ -157,13 +158,18 @@ def panel_snapshots(fig, runs, top):
 
 
 def panel_catalogue(fig, d, norm, top):
+    """The catalogue's aggregates on one length scale (CATALOGUE_HALF_WINDOW spacings each way)."""
     cols = 5
     panel_w = WIDTH_CM / cols
     for n, (name, title) in enumerate(CATALOGUE):
         i, j = divmod(n, cols)
-        ax = fig.add_axes(rect(j * panel_w + 0.1, top - (i + 1) * 2.75 + 0.1, panel_w - 0.2, 1.9))
+        ax = fig.add_axes(rect(j * panel_w + 0.1, top - (i + 1) * 2.5 + 0.1, panel_w - 0.2, 1.65))
         draw_triangles(ax, d[f"{name}_corners"], d[f"{name}_energy"], norm, linewidth=0.15)
-        ax.set_title(f"{title}: {float(d[f'{name}_per_particle']):.2f}", fontsize=6.5)
+        centre = np.asarray(d[f"{name}_corners"]).reshape(-1, 2).mean(axis=0)
+        aspect = 1.65 / (panel_w - 0.2)
+        ax.set_xlim(centre[0] - CATALOGUE_HALF_WINDOW, centre[0] + CATALOGUE_HALF_WINDOW)
+        ax.set_ylim(centre[1] - aspect * CATALOGUE_HALF_WINDOW, centre[1] + aspect * CATALOGUE_HALF_WINDOW)
+        ax.set_title(f"{title}:\n{float(d[f'{name}_per_particle']):.2f}")
         if n == 0:
             letter(fig, ax, "e", 0.1, top + 0.1)
 
@@ -180,9 +186,9 @@ def main(shapes_path, diagram_path, continuum_path, snapshot_paths, outputs):
     panel_bulk(fig, d, top)
     top -= 4.6
     panel_diagram(fig, diagram, load_npz(continuum_path), runs, top)
-    top -= 7.5
+    top -= 6.9
     panel_snapshots(fig, runs, top)
-    top -= 2 * (2.6 + 0.55) + 0.2
+    top -= 2 * (SNAPSHOT_CM + 0.55) + 0.2
     panel_catalogue(fig, d, norm, top)
     plotting.save(fig, outputs)
 

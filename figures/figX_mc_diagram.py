@@ -93,12 +93,18 @@ def main(mc_path, diagram_path, continuum_path, outputs):
     for mesh in ax.collections:
         mesh.set_alpha(0.35)
     draw_elongated_bands(ax, mc)
-    for nu, G, kind, size, gap in zip(mc["nu"], mc["Gamma"], mc["kind"], mc["size"], mc["gap_ground"]):
+    # A run the classifier calls a fibre (elongated) where the best single aggregate of as many
+    # particles is compact: two or more disks fused into one cluster read as a fibre (the
+    # classifier sees only the gyration anisotropy; tests/test_figures.py).
+    elongated_not_fibre = (mc["kind"] == "fiber") & (mc["single_kind"] != "fiber")
+    for nu, G, kind, size, gap, flag in zip(mc["nu"], mc["Gamma"], mc["kind"], mc["size"], mc["gap_ground"],
+                                            elongated_not_fibre):
         color = plotting.PHASE_COLORS.get(str(kind), "0.5")
         stuck = gap > EQUILIBRATED_GAP
         ax.plot(G, nu, MARKERS[str(kind)], ms=7, mfc="w" if stuck else color, mec=color if stuck else "k",
                 mew=1.4 if stuck else 0.8, zorder=6)
-        ax.annotate(f"{size}", (G, nu), xytext=(5, -9), textcoords="offset points", fontsize=6, zorder=7)
+        ax.annotate(f"{size}" + ("*" if flag else ""), (G, nu), xytext=(5, -9), textcoords="offset points",
+                    fontsize=6, zorder=7)
     handles = [Line2D([], [], marker=m, ls="", mfc=plotting.PHASE_COLORS.get(k, "0.5"), mec="k",
                       label=plotting.PHASE_LABELS.get(k, k)) for k, m in MARKERS.items()]
     handles.append(Line2D([], [], marker="o", ls="", mfc="w", mec="0.3", mew=1.4,
@@ -106,6 +112,9 @@ def main(mc_path, diagram_path, continuum_path, outputs):
                                 "predicted ground state"))
     handles.append(Line2D([], [], color=plotting.PHASE_COLORS["fiber"], lw=7, alpha=0.45,
                           label=f"best single aggregate\nof {n} particles is elongated"))
+    if elongated_not_fibre.any():
+        handles.append(Line2D([], [], ls="", marker="$*$", color="k",
+                              label=f"elongated, but the best single\naggregate of {n} is compact\n(e.g. fused disks)"))
     fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(11.6 / width, 8.9 / height),
                title="Monte Carlo runs:\nlargest final aggregate", alignment="left", labelspacing=0.8)
     within = int((mc["gap_ground"] <= EQUILIBRATED_GAP).sum())
