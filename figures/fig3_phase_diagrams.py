@@ -26,7 +26,8 @@ def run_title(k, run, convention):
     seed = f", seed {int(run['seed'])}" if int(run["seed"]) != 1 else ""
     if convention == "measured":
         return rf"{k}: $\Gamma$ = {G:g}, $\nu$ = {nu:g}{seed}"
-    return rf"{k}: $\Gamma_{{\rm paper}}$ = {G:g} ($\Gamma$ = {float(run['Gamma_measured']):.2f}), $\nu$ = {nu:g}{seed}"
+    return (rf"{k}: $\Gamma_{{\rm paper}}$ = {G:g}, $\nu$ = {nu:g}" "\n"
+            rf"(ours: $\Gamma$ = {float(run['Gamma_measured']):.2f}){seed}")
 
 
 def gap_to_best_single(run, finite) -> float:
@@ -43,7 +44,8 @@ def main(diagram_path, continuum_path, snapshot_paths, finite_paths, dense, swee
                   key=lambda r: (-float(r["nu"]), float(r["Gamma"]), int(r["seed"])))
     kinds = ["dense" if (int(r["n"]), int(r["box"])) == tuple(dense) else "sparse" for r in runs]
     rows = int(np.ceil(len(runs) / COLS))
-    snap_top = 0.15 + rows * (SNAPSHOT_CM + SNAPSHOT_GAP_CM)
+    gap_cm = SNAPSHOT_GAP_CM + (0.3 if convention != "measured" else 0.0)  # two-line titles
+    snap_top = 0.15 + rows * (SNAPSHOT_CM + gap_cm)
     height = snap_top + 0.55 + 1.0 + DIAGRAM_CM + 1.0
     fig = plotting.figure(WIDTH_CM, height)
     diagram_bottom = snap_top + 0.55 + 1.0
@@ -84,7 +86,7 @@ def main(diagram_path, continuum_path, snapshot_paths, finite_paths, dense, swee
     panel_w = WIDTH_CM / COLS
     for k, (r, kind, ((x0, y0), (x1, y1))) in enumerate(zip(runs, kinds, extents), start=1):
         i, j = divmod(k - 1, COLS)
-        bottom = snap_top - (i + 1) * (SNAPSHOT_CM + SNAPSHOT_GAP_CM) + 0.05
+        bottom = snap_top - (i + 1) * (SNAPSHOT_CM + gap_cm) + 0.05
         sub = fig.add_axes(rect(j * panel_w + 0.075, bottom, panel_w - 0.15, SNAPSHOT_CM))
         plotting.draw_snapshot(r["sites"], int(r["box"]), ax=sub)
         sub.set_xlim(0.5 * (x0 + x1) - half, 0.5 * (x0 + x1) + half)
