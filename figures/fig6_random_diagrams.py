@@ -74,7 +74,7 @@ def main(paths, edges, outputs):
         ax.set_title(rf"$\ell \in [{edges[i]:g}, {hi})$, {len(nu)} particles"
                      + (f"\n({100 * beyond:.0f} % bind beyond the axis)" if beyond > 0 else ""))
         ax.set_xlim(0, G[-1])
-        ax.set_xticks([0, 0.5, 1, 1.5, 2, 5, 10, 20, 50], ["0", "", "1", "", "2", "5", "10", "20", "50"])
+        ax.set_xticks([0, 0.5, 1, 1.5, 2, 5, 10, 20, 50], ["0", "", "1", "", "2", "5", "10", "20", ""])  # 50 would touch the next panel's 0
         ax.set_ylim(-1, 1)
         ax.set_xlabel(plotting.LABELS["Gamma"])
         if i:
