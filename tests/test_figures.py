@@ -121,6 +121,7 @@ def _stored_check(png: Path):
     from PIL import Image
 
     with Image.open(png) as image:
+        assert plotting.CHECK_KEY in image.text, f"{png.name} was drawn without the figure check: rebuild it"
         problems = json.loads(image.text[plotting.CHECK_KEY])
         dpi = image.info.get("dpi", (matplotlib.rcParams["savefig.dpi"],) * 2)[0]
         size_cm = tuple(n / dpi * 2.54 for n in image.size)
