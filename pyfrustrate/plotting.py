@@ -230,7 +230,7 @@ def shaded_colormap(color, tint: float = 0.3):
 
 # Monte Carlo snapshots: the largest cluster first, then the others, in colours that no phase
 # uses (no red, teal, purple or black), isolated particles light grey (montecarlo.draw_snapshot).
-CLUSTER_COLORS = ["#e08214", "#b8a000", "#8c6d31", "#7f9f3a", "#f1a98a", "#c49c94", "#d9b365", "#9c9c5a"]
+CLUSTER_COLORS = ["#e08214", "#b8a000", "#8c6d31", "#7f9f3a", "#fdb863", "#66a61e", "#d9b365", "#bf812d"]
 
 
 def cluster_colormap():

@@ -196,3 +196,24 @@ def test_classifier_calls_two_fused_disks_a_fibre():
     small, large = np.linalg.eigvalsh(np.cov(xy.T))
     assert np.sqrt(large / small) > ELONGATION_THRESHOLD
     assert kind == "fiber"
+
+
+def test_colour_ramps_start_at_a_visible_tint():
+    """The smallest size in a phase diagram still reads as its phase, not as the white page."""
+    from matplotlib.colors import to_rgb
+
+    for phase in ("fiber", "disk"):
+        start = np.array(plotting.shaded_colormap(plotting.PHASE_COLORS[phase])(0.0)[:3])
+        assert np.abs(start - 1.0).max() > 0.15, phase
+        end = np.array(plotting.shaded_colormap(plotting.PHASE_COLORS[phase])(1.0)[:3])
+        assert np.allclose(end, to_rgb(plotting.PHASE_COLORS[phase]), atol=0.01)
+
+
+def test_cluster_colours_stay_apart_from_phase_colours():
+    """A Monte Carlo cluster is never drawn in a colour that means a phase elsewhere."""
+    from matplotlib.colors import to_rgb
+
+    phases = [np.array(to_rgb(c)) for c in plotting.PHASE_COLORS.values()]
+    for colour in plotting.CLUSTER_COLORS:
+        rgb = np.array(to_rgb(colour))
+        assert min(np.linalg.norm(rgb - p) for p in phases) > 0.3, colour
