@@ -94,7 +94,7 @@ def main(run_paths, finite_paths, outputs):
         wrap = ", wraps" if rank else ""
         gap = plotting.gap_to_best_single(r, finite)
         gap = "" if gap is None else rf", $\Delta E$ = {gap:+.0f}"
-        sub.set_title(rf"$\Gamma$ = {float(r['Gamma']):g}, $\nu$ = {float(r['nu']):g}: {len(coords)} particles" "\n"
+        sub.set_title(rf"$\Gamma$ = {float(r['Gamma']):g}, $\nu$ = {float(r['nu']):g}" "\n"
                       rf"$W$ = {w:.0f}, $L$ = {l:.0f}{wrap}{gap}")
     if large:
         sub0 = fig.axes[2]

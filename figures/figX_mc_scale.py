@@ -36,11 +36,11 @@ def main(scale_path, run_paths, points, outputs):
     seeds = sorted({int(s) for s in scale["seed"]})
     n, box = int(scale["n"][0]), int(next(iter(runs.values()))["box"])
     scans = [s for s in SCANS if any(p[0] == s for p in points)]
-    fig = plotting.figure(plotting.PAGE_WIDTH_CM, 12.0)
-    top, width = 0.58, 0.25
+    fig = plotting.figure(plotting.PAGE_WIDTH_CM, 10.5)
+    top, width = 0.55, 0.25
     for i, scan in enumerate(scans):
         variable, label, title = SCANS[scan]
-        ax = fig.add_axes([0.08 + i * 0.32, top, width, 0.34])
+        ax = fig.add_axes([0.08 + i * 0.32, top, width, 0.37])
         ax.axhspan(-1e9, EQUILIBRATED_GAP, color="0.88", zorder=0)
         ax.axhline(0, color="0.5", lw=0.6, zorder=1)
         xs, highest = [], EQUILIBRATED_GAP
@@ -58,7 +58,7 @@ def main(scale_path, run_paths, points, outputs):
                 highest = max(highest, gap)
             ground = [str(scale["ground_family"][k]) for k in rows_of(scale, nu, G)][:1]
             if ground:
-                ax.annotate(plotting.STRUCTURE_LABELS.get(ground[0], ground[0]).replace(" ", "\n", 1), (x, 0),
+                ax.annotate(plotting.structure_label(ground[0]).replace(" ", "\n", 1), (x, 0),
                             xytext=(0, -4), textcoords="offset points", ha="center", va="top", fontsize=6,
                             color="0.35")
         ax.set_xlim(min(xs) - 0.12 * (max(xs) - min(xs) + 0.1), max(xs) + 0.12 * (max(xs) - min(xs) + 0.1))
@@ -84,7 +84,7 @@ def main(scale_path, run_paths, points, outputs):
     half = max(0.5 * max(x1 - x0, y1 - y0) for (x0, y0), (x1, y1) in extents) + 2.0
     width = 0.92 / max(len(shown), 1)
     for j, ((scans, nu, G, run), ((x0, y0), (x1, y1))) in enumerate(zip(shown, extents)):
-        ax = fig.add_axes([0.04 + j * width, 0.07, width * 0.96, 0.36])
+        ax = fig.add_axes([0.04 + j * width, 0.02, width * 0.96, 0.33])
         plotting.draw_snapshot(run["sites"], box, ax=ax)
         ax.set_xlim(0.5 * (x0 + x1) - half, 0.5 * (x0 + x1) + half)
         ax.set_ylim(0.5 * (y0 + y1) - half, 0.5 * (y0 + y1) + half)

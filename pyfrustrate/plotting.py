@@ -81,6 +81,13 @@ def gap_to_best_single(run, predictions):
     return None
 
 
+def structure_label(structure: str) -> str:
+    """A box structure (``STRUCTURE_LABELS``; "aggregatesN": N separate aggregates) in words."""
+    if structure.startswith("aggregates") and structure[len("aggregates"):].isdigit():
+        return f"{structure[len('aggregates'):]} aggregates"
+    return STRUCTURE_LABELS.get(structure, structure.replace("_", " "))
+
+
 def box_label(box: int) -> str:
     """A periodic box of ``box`` x ``box`` sites, written one way in every figure."""
     return rf"{int(box)}$\times${int(box)}"
