@@ -41,7 +41,7 @@ def main(study_path, table_path, ell_groups, outputs):
     names = definition_names(study)
     n = len(study["slowest"])
     fig = plotting.figure(17.8, 7.2)
-    ax = fig.add_axes([0.06, 0.17, 0.25, 0.73])
+    ax = fig.add_axes([0.065, 0.17, 0.245, 0.73])
     x = np.linspace(0.2, 6, 300)
     for name in names:
         ell = np.asarray(study[name])

@@ -134,7 +134,7 @@ def save(fig, outputs, provenance: dict | None = None) -> None:
     plt.close(fig)
 
 
-def panel_label(ax, label: str, dx_pt: float = -4.0, dy_pt: float = 3.0, at_cm: tuple | None = None):
+def panel_label(ax, label: str, dx_pt: float = -6.0, dy_pt: float = 4.0, at_cm: tuple | None = None):
     """The panel letter "(a)", bold, in one place: just above and left of the axes' top-left
     corner (``dx_pt``, ``dy_pt``: an offset in points, for a panel whose tick labels reach there);
     or, for drawings whose equal aspect shrinks the axes, at ``at_cm`` (x, y in cm on the page,
@@ -461,7 +461,7 @@ def _drawn_texts(fig):
     return shown
 
 
-def check_figure(fig, overlap_px: float = 1.0) -> list[str]:
+def check_figure(fig, overlap_px: float = 0.0) -> list[str]:
     """What a machine can check of a figure drawn at print size; returns the problems found
     (empty: none). The page is at most 17.8 cm wide (one column 8.6 cm, two 17.8 cm) and 23 cm
     tall; every text is at least 7 pt (free annotations 6 pt); no two texts overlap (by more
