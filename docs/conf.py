@@ -1,0 +1,94 @@
+"""Sphinx configuration of the pyfrustrate documentation (built by scripts/docs.sh into
+results/docs/, with warnings as errors). Laid out after freud's doc/source: getting started,
+tutorials, topics, gallery, API reference, development guide, changelog."""
+from __future__ import annotations
+
+import re
+import sys
+from pathlib import Path
+
+import pyfrustrate
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(Path(__file__).resolve().parent / "_ext"))
+
+project = "pyfrustrate"
+author = "pyfrustrate developers"
+copyright = "2026, pyfrustrate developers"
+release = version = pyfrustrate.__version__
+
+# One version: the package's. CITATION.cff repeats it for citation tools, so it is checked here.
+_cff_version = re.search(r"^version:\s*(\S+)", (ROOT / "CITATION.cff").read_text(), re.MULTILINE)
+if not _cff_version or _cff_version.group(1) != release:
+    raise RuntimeError(f"CITATION.cff's version ({_cff_version and _cff_version.group(1)}) differs from "
+                       f"pyfrustrate.__version__ ({release}): update CITATION.cff")
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",
+    "numpydoc",
+    "myst_parser",
+    "sphinx_design",
+    "sphinx_gallery.gen_gallery",
+    "measured",
+    "figure_gallery",
+]
+
+source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+root_doc = "index"
+exclude_patterns = ["_build", "_generated", "tutorials_src", "**/GALLERY_HEADER.rst", "README.md"]
+templates_path = ["_templates"]
+
+# Markdown pages: fenced directives, $math$, definition lists.
+myst_enable_extensions = ["colon_fence", "dollarmath", "deflist"]
+myst_heading_anchors = 3
+
+# API reference: one page per public module, class and function (templates in _templates/).
+autosummary_generate = True
+autosummary_imported_members = False
+autodoc_default_options = {"members": True, "show-inheritance": True}
+autodoc_member_order = "bysource"
+autodoc_typehints = "none"  # numpydoc's Parameters sections carry the types
+# numpydoc: member tables come from the class template, not numpydoc's autosummary stubs
+# (which would name every inherited attribute as a missing document).
+numpydoc_show_class_members = False
+numpydoc_class_members_toctree = False
+numpydoc_xref_param_type = False
+numpydoc_validation_checks: set[str] = set()
+
+# Executed tutorials: every docs/tutorials_src/tutorial_*.py runs at each build; an error fails it.
+sphinx_gallery_conf = {
+    "examples_dirs": ["tutorials_src"],
+    "gallery_dirs": ["tutorials"],
+    "filename_pattern": r"tutorial_",
+    "abort_on_example_error": True,
+    "write_computation_times": False,
+    "download_all_examples": False,
+    "remove_config_comments": True,
+    "within_subsection_order": "FileNameSortKey",
+    "image_scrapers": ("matplotlib",),
+    "reset_modules": ("matplotlib",),
+}
+
+# Measured numbers (docs/_ext/measured.py): every file a page may quote, with what (re)writes it.
+measured_sources = {
+    "results/benchmarks/relax.csv": "python benchmarks/bench_relax.py --csv results/benchmarks/relax.csv",
+    "results/benchmarks/speed_accuracy.csv": "bash scripts/figures.sh results/benchmarks/speed_accuracy.csv (rule speed_accuracy: benchmarks/bench_tradeoff.py)",
+    "results/ansatz/line_tension.json": "bash scripts/figures.sh results/ansatz/line_tension.json (rule ansatz_line_tension)",
+}
+
+html_theme = "pydata_sphinx_theme"
+html_title = f"pyfrustrate {release}"
+html_static_path = ["_static"]
+html_css_files = ["pyfrustrate.css"]
+html_show_sourcelink = False
+html_theme_options = {
+    "navigation_with_keys": False,
+    "show_toc_level": 2,
+    "header_links_before_dropdown": 8,
+    "footer_start": ["copyright"],
+    "footer_end": ["sphinx-version"],
+}
+html_context = {"default_mode": "light"}
