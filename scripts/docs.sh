@@ -44,7 +44,10 @@ if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$hash" ]; then
 fi
 
 cd "$ROOT"
+# The API pages are regenerated from the package at each build: none may outlive its module.
+rm -rf docs/api/generated
 # Agg: the tutorials draw without a display; one BLAS thread, as everywhere in this project.
 export MPLBACKEND=Agg OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
-"$VENV/bin/python" -m sphinx -W --keep-going -b html "$@" docs results/docs
+# -P: the installed package (with its compiled kernel), not the source tree in the working directory.
+"$VENV/bin/python" -P -m sphinx -W --keep-going -b html "$@" docs results/docs
 echo "[docs] built $ROOT/results/docs/index.html"
