@@ -44,8 +44,9 @@ def profile_of(png: Path) -> str:
         record = read_provenance(png) or {}
     except Exception:
         return "no readable provenance"
-    commit = str(record.get("commit", "unknown commit"))[:10]
-    return f"commit {commit}{' (uncommitted changes)' if record.get('dirty') else ''}, version {record.get('version', '?')}"
+    commit = str(record.get("git_commit", "unknown"))[:10]
+    dirty = " (with uncommitted changes)" if record.get("git_dirty") else ""
+    return f"commit {commit}{dirty}, version {record.get('version', '?')}"
 
 
 def gallery_page(root: Path) -> str:

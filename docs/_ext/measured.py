@@ -142,8 +142,12 @@ def provenance_summary(file: Path) -> str:
         return f"no readable provenance ({type(error).__name__})"
     if not record:
         return "no provenance recorded"
-    parts = [f"{key} {record[key]}" for key in ("version", "commit") if key in record]
-    if record.get("dirty"):
+    parts = [f"version {record['version']}"] if "version" in record else []
+    if "git_commit" in record:
+        parts.append(f"commit {str(record['git_commit'])[:10]}")
+    if "rule" in record:
+        parts.append(f"rule {record['rule']}")
+    if record.get("git_dirty"):
         parts.append("uncommitted changes")
     return ", ".join(parts) or "recorded"
 

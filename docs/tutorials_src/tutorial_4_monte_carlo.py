@@ -72,5 +72,6 @@ trace.plot(resumed.steps / run_options["n"], resumed.energy_trace, "--", label="
 trace.set(xlabel="sweeps", ylabel="box energy", title="energy during the anneal")
 trace.legend(frameon=False)
 montecarlo.draw_snapshot(resumed.sites, resumed.box, ax=snapshot, particle=particle)
-snapshot.set_title(f"final state: {len(resumed.clusters())} clusters")
+count = len(resumed.clusters())
+snapshot.set_title(f"final state: {count} cluster{'' if count == 1 else 's'}")
 fig.tight_layout()

@@ -14,6 +14,7 @@ import warnings
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.ticker import NullFormatter, ScalarFormatter
 
 import pyfrustrate as pf
 from pyfrustrate import topology
@@ -52,6 +53,8 @@ fig, ax = plt.subplots(figsize=(5, 3.6))
 for method, marker in (("linear", "s"), ("newton", "o"), ("lbfgs", "^")):
     seconds, errors = np.array(rows[method]).T
     ax.loglog(seconds * 1e3, np.maximum(errors, 1e-16), marker + "-", label=method)
+ax.xaxis.set_major_formatter(ScalarFormatter())
+ax.xaxis.set_minor_formatter(NullFormatter())
 ax.set(xlabel="time per relaxation (ms)", ylabel="relative energy error",
        title=f"disk of {scene.n_particles} particles, eps = {particle.eps}")
 ax.legend(frameon=False)
