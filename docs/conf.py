@@ -87,11 +87,13 @@ html_show_sourcelink = False
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
-    "header_links_before_dropdown": 8,
+    "header_links_before_dropdown": 6,
     "footer_start": ["copyright"],
     "footer_end": ["sphinx-version"],
 }
 html_context = {"default_mode": "light"}
+# Pages without sub-pages get no (empty) section navigation on the left.
+html_sidebars = {page: [] for page in ("index", "gallery", "changelog", "results_log", "api")}
 
 
 # Today's docstrings are plain text in places where reST reads markup. Until they are written as

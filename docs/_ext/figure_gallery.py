@@ -65,13 +65,14 @@ def gallery_page(root: Path) -> str:
             rule, script = rules[name]
             caption_file = root / "workflow" / "report" / f"{name}.rst"
             caption = caption_file.read_text() if caption_file.is_file() else "(no caption file)"
-            # The report's Jinja names the profile of the Snakemake run; here the PNG's
-            # provenance says what made it.
-            caption = JINJA.sub("the workflow's", caption).strip()
+            # The report's Jinja sentence names the profile of the Snakemake run; here the PNG's
+            # provenance says what made it, so the paragraph holding it is left out.
+            caption = "\n\n".join(par for par in caption.strip().split("\n\n") if not JINJA.search(par))
             lead = LEAD.search(caption)
             png = root / "results" / "figures" / f"{name}.png"
             lines += [f".. _gallery-{name}:", "", name, "~" * len(name), ""]
-            facts = [f"**Paper figure:** {lead.group(1) if lead else '(not stated in the caption)'}",
+            reproduces = lead.group(1).removeprefix("Paper ") if lead else "(not stated in the caption)"
+            facts = [f"**Paper figure:** {reproduces}",
                      f"**Rule:** ``{rule}`` · **Script:** ``{script}``"]
             if png.is_file():
                 facts.append(f"**Made by:** {profile_of(png)}")
