@@ -176,8 +176,13 @@ class MeasuredSources(Directive):
             return tr
 
         head += row(["file", "written by", "read from", "provenance"], literal_first=False)
+        root = _repository_root(app)
         for path, command in sorted(app.config.measured_sources.items()):
             file, origin = locate(app, path)
+            # Re-read this page when a source appears, changes or goes (a missing dependency
+            # keeps the page out of date, so a later measurement is picked up).
+            app.env.note_dependency(str(root / path))
+            app.env.note_dependency(str(root / SNAPSHOT_DIR / path))
             read_from = {"this checkout": path, "snapshot": f"{SNAPSHOT_DIR}/{path}", "missing": "nowhere: not measured"}[origin]
             body += row([path, command, read_from, provenance_summary(file) if file else "-"])
         return [table]
