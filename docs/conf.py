@@ -41,8 +41,9 @@ root_doc = "index"
 exclude_patterns = ["_build", "_generated", "tutorials_src", "**/GALLERY_HEADER.rst", "README.md"]
 templates_path = ["_templates"]
 
-# Markdown pages: fenced directives, $math$, definition lists.
-myst_enable_extensions = ["colon_fence", "dollarmath", "deflist"]
+# Markdown pages: fenced directives, definition lists. Formulas are plain text (as in the
+# docstrings), so that pages read offline: MathJax would come from a CDN.
+myst_enable_extensions = ["colon_fence", "deflist"]
 myst_heading_anchors = 3
 
 # API reference: one page per public module, class and function (templates in _templates/).

@@ -75,3 +75,28 @@ montecarlo.draw_snapshot(resumed.sites, resumed.box, ax=snapshot, particle=parti
 count = len(resumed.clusters())
 snapshot.set_title(f"final state: {count} cluster{'' if count == 1 else 's'}")
 fig.tight_layout()
+
+# %%
+# Other particles
+# ---------------
+# ``anneal`` takes any particle model: the triangular particle of the supplement (its box
+# counts lattice cells, each an up and a down triangle; its ``g`` follows from ``gamma = g / 2``,
+# hence ``tiling="triangle"``) and a random-elasticity particle (its own ``ell`` and ``nu`` set
+# its ``g``, ``random_particles.binding_energy``).
+
+from pyfrustrate import random_particles
+
+triangle = pf.Triangle.from_continuum(ell=2.5, nu=0.5, eps=0.05)
+g_triangle = float(continuum.particle_parameters(2.5, 0.5, 0.5, k=triangle.k, eps=triangle.eps, tiling="triangle").g)
+random_particle = random_particles.RandomHexagon.draw(seed=2025, index=17, eps=0.01)
+g_random = float(random_particles.binding_energy(random_particle, 0.5, random_particle.boundary_layer_length,
+                                                 float(random_particle.moduli["nu"])))
+
+small = dict(box=12, n=24, steps=200 * 24, seed=3, method="newton", progress=False)
+others = {"triangles": pf.anneal(triangle, g_triangle, **small),
+          "a random particle": pf.anneal(random_particle, g_random, **small)}
+fig, axes = plt.subplots(1, 2, figsize=(8, 3.4))
+for ax, (name, result), model in zip(axes, others.items(), (triangle, random_particle)):
+    montecarlo.draw_snapshot(result.sites, result.box, ax=ax, particle=model)
+    ax.set_title(f"{name}: {result.bonds} bonds")
+fig.tight_layout()
