@@ -7,8 +7,7 @@ rule explorer:
         catalogues=[catalogue_file(ell, nu) for ell in (ANSATZ["fig3b_ell"], ANSATZ["figS1_ell"]) for nu in DIAGRAM_NU],
         continuum=rules.continuum_phase_diagram.output,
     output:
-        html="results/explorer/index.html",
-        pictures=directory("results/explorer/pictures"),
+        "results/explorer/index.html",
     params:
         **pick(config["explorer"], "width", "height", "picture_inches", "picture_dpi", "periods"),
     conda:

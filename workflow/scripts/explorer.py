@@ -1,19 +1,18 @@
-"""Interactive phase-diagram explorer (issue 34, item 9): one static HTML page, Bokeh standalone
-output with its JavaScript inline so that it reads offline, and beside it one PNG per distinct
-winning aggregate (pictures/), which the page's tooltips load by relative path. For each ell of the inputs, the
+"""Interactive phase-diagram explorer (issue 34, item 9): one self-contained HTML page, Bokeh
+standalone output with its JavaScript inline so that it reads offline. Each distinct winning
+aggregate's picture is embedded once (a PNG data URI in the tooltip's formatter), and the points
+refer to it by key. For each ell of the inputs, the
 catalogue's winners on the (Gamma, nu) plane (Figs. 3b and S1) coloured by phase, with the
 continuum's boundaries; hovering a point shows its winning aggregate relaxed and coloured by
 per-particle energy, with W* or R* and the winner's energies per particle."""
-import os
-import shutil
-import tempfile
-from pathlib import Path
+import base64
+import io
 
 import matplotlib.pyplot as plt
 import numpy as np
 from bokeh.embed import file_html
 from bokeh.layouts import column
-from bokeh.models import ColumnDataSource, Div, HoverTool, TabPanel, Tabs
+from bokeh.models import ColumnDataSource, CustomJSHover, Div, HoverTool, TabPanel, Tabs
 from bokeh.plotting import figure
 from bokeh.resources import INLINE
 
@@ -25,8 +24,8 @@ from pyfrustrate.provenance import for_job
 s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
 
 
-def picture(particle, topology, path) -> None:
-    """The relaxed aggregate coloured by per-particle energy over the bulk's, written as a PNG;
+def picture(particle, topology) -> str:
+    """The relaxed aggregate coloured by per-particle energy over the bulk's, as a PNG data URI;
     periodic cells drawn over a few periods so that a fibre or a bulk reads as one."""
     images = range(-s["periods"], s["periods"] + 1)
     corners, energies, _ = relaxation.relaxed_drawing(particle, topology, images=images)
@@ -34,15 +33,18 @@ def picture(particle, topology, path) -> None:
     plotting.draw_hexagons(ax, corners, energies / particle.bulk_energy_per_particle, cmap="viridis",
                            linewidth=0.1)
     ax.set_axis_off()
-    fig.savefig(path, format="png", dpi=s["picture_dpi"], bbox_inches="tight", pad_inches=0.02)
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=s["picture_dpi"], bbox_inches="tight", pad_inches=0.02)
     plt.close(fig)
+    return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode()
 
 
-def diagram_panel(diagram_path, catalogue_paths, boundaries, pictures: Path):
+def diagram_panel(diagram_path, catalogue_paths, boundaries):
     """One ell: a point per (nu, Gamma) of the diagram file, with what a hover shows."""
     diagram = load_npz(diagram_path)
     ell, Gamma = float(diagram["ell"]), np.asarray(diagram["Gamma"], float)
     rows = {key: [] for key in ("Gamma", "nu", "phase", "color", "winner", "size", "e_total", "e_def", "image")}
+    pictures = {}  # key -> data URI, one per distinct winner
     for i, (nu, path) in enumerate(zip(np.asarray(diagram["nu"], float), catalogue_paths)):
         data = load_npz(path)
         table = ansatz.CatalogueEnergies.from_arrays(data)
@@ -60,9 +62,9 @@ def diagram_panel(diagram_path, catalogue_paths, boundaries, pictures: Path):
             family, size = str(family), int(size)
             index = int(np.flatnonzero((table.family == family) & (table.size == size))[0])
             if (family, size) not in drawn:
-                name = f"ell{ell:g}_nu{nu:g}_{family}_{size}.png"
-                picture(particle, candidates[(family, size)], pictures / name)
-                drawn[(family, size)] = f"{pictures.name}/{name}"
+                key = f"nu{nu:g}_{family}_{size}"
+                pictures[key] = picture(particle, candidates[(family, size)])
+                drawn[(family, size)] = key
             phase = str(diagram["phase"][i][j])
             length = float(diagram["length"][i][j])
             rows["Gamma"].append(Gamma[j])
@@ -90,13 +92,13 @@ def diagram_panel(diagram_path, catalogue_paths, boundaries, pictures: Path):
             plot.line(G, boundaries["line_nu"], color="white", line_width=2.5, line_dash="dashed")
     plot.add_tools(HoverTool(renderers=[points], tooltips="""
         <div style="width: 230px">
-          <img src="@image" style="max-width: 220px; max-height: 180px; display: block;">
+          <img src="@image{custom}" style="max-width: 220px; max-height: 240px; display: block;">
           <b>@winner</b> (@phase)<br>
           nu = @nu{0.00}, Gamma = @Gamma{0.000}<br>
           @size<br>
           total energy per particle: @e_total e_bulk<br>
           deformation energy per particle: @e_def e_bulk
-        </div>"""))
+        </div>""", formatters={"@image": CustomJSHover(args=dict(pictures=pictures), code="return pictures[value]")}))
     plot.add_layout(plot.legend[0], "right")
     return TabPanel(child=plot, title=f"ell = {ell:g}")
 
@@ -107,14 +109,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     boundaries = {"line_nu": np.asarray(continuum["line_nu"], float), **kept}
     catalogues = list(snakemake.input.catalogues)  # noqa: F821
     per_diagram = len(catalogues) // len(snakemake.input.diagrams)  # noqa: F821
-    # The pictures are drawn into a temporary directory beside their final place, then renamed
-    # into it, so that an interrupted job leaves no partial picture set.
-    final_pictures = Path(snakemake.output.pictures)  # noqa: F821
-    final_pictures.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(dir=final_pictures.parent, prefix=".pictures-"))
-    pictures = staging / final_pictures.name
-    pictures.mkdir()
-    panels = [diagram_panel(path, catalogues[k * per_diagram:(k + 1) * per_diagram], boundaries, pictures)
+    panels = [diagram_panel(path, catalogues[k * per_diagram:(k + 1) * per_diagram], boundaries)
               for k, path in enumerate(snakemake.input.diagrams)]  # noqa: F821
     provenance = for_job(snakemake)  # noqa: F821
     header = Div(text=(
@@ -127,9 +122,6 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         f"{' (with uncommitted changes)' if provenance.get('git_dirty') else ''}, pyfrustrate "
         f"{provenance.get('version', '?')}.</p>"), width=s["width"])
     html = file_html(column(header, Tabs(tabs=panels)), INLINE, "pyfrustrate phase-diagram explorer")
-    shutil.rmtree(final_pictures, ignore_errors=True)
-    os.replace(pictures, final_pictures)
-    staging.rmdir()
-    with atomic_path(snakemake.output.html) as tmp:  # noqa: F821
+    with atomic_path(snakemake.output[0]) as tmp:  # noqa: F821
         with open(tmp, "w") as fh:
             fh.write(html)
