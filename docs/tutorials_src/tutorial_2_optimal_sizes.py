@@ -1,6 +1,6 @@
 """
-W* and R* at the paper's point, from the catalogue of aggregates
-=================================================================
+Optimal fibre width and disk radius at the paper's point
+========================================================
 
 The paper finds the optimal aggregate by relaxing a catalogue of pre-made candidates (compact
 disks, fibres of every width and cut, the bulk, bulks with holes: its Fig. 4a) and picking the
