@@ -145,7 +145,7 @@ def provenance_summary(file: Path) -> str:
     parts = [f"version {record['version']}"] if "version" in record else []
     if "git_commit" in record:
         parts.append(f"commit {str(record['git_commit'])[:10]}")
-    if "rule" in record:
+    if record.get("rule"):
         parts.append(f"rule {record['rule']}")
     if record.get("git_dirty"):
         parts.append("uncommitted changes")
