@@ -3,6 +3,7 @@ results/docs/, with warnings as errors). Laid out after freud's doc/source: gett
 tutorials, topics, gallery, API reference, development guide, changelog."""
 from __future__ import annotations
 
+import pkgutil
 import re
 import sys
 from pathlib import Path
@@ -72,6 +73,14 @@ sphinx_gallery_conf = {
     "image_scrapers": ("matplotlib",),
     "reset_modules": ("matplotlib",),
 }
+
+# The API reference lists every public module of the package, found at build time (so that a new
+# module appears without editing the page): docs/api.rst is written from api.rst.in.
+_PUBLIC_MODULES = sorted(m.name for m in pkgutil.iter_modules(pyfrustrate.__path__) if not m.name.startswith("_"))
+_api_page = (Path(__file__).parent / "api.rst.in").read_text().replace(
+    "@MODULES@", "\n".join(f"   pyfrustrate.{name}" for name in _PUBLIC_MODULES))
+if not (Path(__file__).parent / "api.rst").is_file() or (Path(__file__).parent / "api.rst").read_text() != _api_page:
+    (Path(__file__).parent / "api.rst").write_text(_api_page)
 
 # Measured numbers (docs/_ext/measured.py): every file a page may quote, with what (re)writes it.
 measured_sources = {
