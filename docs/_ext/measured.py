@@ -21,19 +21,14 @@ typed one. A selector that does not match is an error (the build runs with ``-W`
 """
 from __future__ import annotations
 
-import csv
-import io
-import json
-import re
 from pathlib import Path
 
 from docutils import nodes
 from docutils.parsers.rst import Directive
-from sphinx.util import logging
 
-logger = logging.getLogger(__name__)
+from measured_values import formatted, load, select
+
 SNAPSHOT_DIR = "docs/_generated"
-_TOKEN = re.compile(r'\.(?:"([^"]*)"|([^.\[\]"]+))|\[([^\]]*)\]')
 
 
 def _repository_root(app) -> Path:
@@ -48,61 +43,6 @@ def locate(app, path: str) -> tuple[Path | None, str]:
     if (root / SNAPSHOT_DIR / path).is_file():
         return root / SNAPSHOT_DIR / path, "snapshot"
     return None, "missing"
-
-
-def _load(file: Path):
-    text = file.read_text()
-    if file.suffix == ".json":
-        return json.loads(text)
-    if file.suffix == ".csv":
-        # The first line of the project's CSV files is a '#' comment holding their provenance.
-        body = "\n".join(line for line in text.splitlines() if not line.startswith("#"))
-        return list(csv.DictReader(io.StringIO(body)))
-    raise ValueError(f"measured: cannot read '{file.suffix}' files ({file})")
-
-
-def _equal(field, wanted: str) -> bool:
-    if str(field) == wanted:
-        return True
-    try:
-        return float(field) == float(wanted)
-    except (TypeError, ValueError):
-        return False
-
-
-def select(data, selector: str):
-    """Walk ``data`` along ``selector`` (see the module's docstring)."""
-    position = 0
-    for match in _TOKEN.finditer(selector):
-        if match.start() != position:
-            raise ValueError(f"cannot parse selector '{selector}' at '{selector[position:]}'")
-        position = match.end()
-        key = match.group(1) if match.group(1) is not None else match.group(2)
-        if key is not None:
-            if not isinstance(data, dict) or key not in data:
-                keys = sorted(data) if isinstance(data, dict) else type(data).__name__
-                raise KeyError(f"no key '{key}' (have: {keys})")
-            data = data[key]
-            continue
-        conditions = [part.split("=", 1) for part in match.group(3).split(",")]
-        if not isinstance(data, list) or any(len(c) != 2 for c in conditions):
-            raise ValueError(f"'[{match.group(3)}]' needs a list of records and k=v conditions")
-        found = [r for r in data if all(k.strip() in r and _equal(r[k.strip()], v.strip()) for k, v in conditions)]
-        if len(found) != 1:
-            raise KeyError(f"[{match.group(3)}] matches {len(found)} records, not one")
-        data = found[0]
-    if position != len(selector):
-        raise ValueError(f"cannot parse selector '{selector}' at '{selector[position:]}'")
-    return data
-
-
-def _format(value, spec: str) -> str:
-    if not spec:
-        return str(value)
-    try:
-        return format(float(value), spec)
-    except (TypeError, ValueError):
-        return format(value, spec)
 
 
 def measured_role(name, rawtext, text, lineno, inliner, options=None, content=None):
@@ -122,8 +62,8 @@ def measured_role(name, rawtext, text, lineno, inliner, options=None, content=No
         node = nodes.emphasis(text=f"not measured in this checkout (run: {sources[path]})")
         return [node], []
     try:
-        value = select(_load(file), selector)
-        shown = _format(value, spec.strip())
+        value = select(load(file), selector)
+        shown = formatted(value, spec.strip())
     except (KeyError, ValueError) as error:
         message = inliner.reporter.error(f"measured: {path}:{selector}: {error}", line=lineno)
         return [inliner.problematic(rawtext, rawtext, message)], [message]
