@@ -113,8 +113,11 @@ MinimizeResult relax_by_policy(const Model& model, const Topology& topology, con
             if (request.parent) {
                 // The parent's factor, modified; made fresh (below) where it cannot serve.
                 Vector start;
-                std::shared_ptr<RelaxedCluster> child =
-                    modified_cluster(model, topology, *request.parent, start, out.parent.fresh_reason);
+                std::shared_ptr<RelaxedCluster> child = modified_cluster(
+                    model, topology, *request.parent, request.minimize.gradient_tolerance, start, out.parent.fresh_reason);
+                if (!child && out.parent.fresh_reason == kNotPositiveDefinite)
+                    child = modified_cluster(model, topology, *request.parent, request.minimize.gradient_tolerance, start,
+                                             out.parent.fresh_reason, /*absolute_blocks=*/true);
                 if (child) {
                     r = chord_relax(model, child, std::move(start), request.minimize, out.parent);
                     counters.evaluations += r.iterations;
