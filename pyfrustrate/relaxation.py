@@ -199,6 +199,8 @@ def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5,
         state = np.asarray(x0, dtype=float).ravel()
         if state.shape != topology.reference_state().shape:
             raise ValueError(f"x0 has {state.size} entries, the topology needs {topology.reference_state().size}")
+        if not np.all(np.isfinite(state)):
+            raise ValueError("x0 contains non-finite values")
         start = state - topology.reference_state()
     # The kernel's one policy (kernel/relax_policy.hpp) picks the method for "auto", its start and
     # fallbacks; a parent's factor is modified instead of a new one made.
