@@ -9,8 +9,8 @@
 #include "parent_factor.hpp"
 #include "relax.hpp"
 
+#include <algorithm>
 #include <cstdint>
-#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -60,27 +60,27 @@ struct RelaxExtras {
 };
 
 // How many rigidly joined pieces a finite topology's particles form: particles are joined when
-// they share a side, the corners at both its ends (a triangle's vertex carries two, its yellow
-// and red nodes); sharing one vertex only is a hinge, free to turn. Periodic cells count as one
-// piece (their builders check connectivity).
+// they share a side, which in a topology of sites is when they are edge neighbours on the tiling
+// (topology.hpp); a triangle touching another at one vertex only is a hinge, free to turn.
+// Periodic cells count as one piece (their builders check connectivity).
 inline int rigid_pieces(const Topology& t) {
     if (t.periodicity != Periodicity::None) return 1;
-    const int C = t.tiling().corners, side = 2 * C / t.tiling().neighbours, np = t.n_particles();
+    const int np = t.n_particles();
+    std::vector<std::pair<Site, int>> sorted(np);
+    for (int p = 0; p < np; ++p) sorted[p] = {t.sites[p], p};
+    std::sort(sorted.begin(), sorted.end());
     std::vector<int> root(np);
     for (int p = 0; p < np; ++p) root[p] = p;
     auto find = [&](int p) {
         while (root[p] != p) p = root[p] = root[root[p]];
         return p;
     };
-    std::vector<std::vector<int>> holders(t.n_corners());
     for (int p = 0; p < np; ++p)
-        for (int s = 0; s < C; ++s) holders[t.corner[p][s]].push_back(p);
-    std::map<std::pair<int, int>, int> shared;  // (p, q), p < q: corners they share
-    for (const auto& h : holders)
-        for (size_t a = 0; a < h.size(); ++a)
-            for (size_t b = a + 1; b < h.size(); ++b)
-                if (h[a] != h[b] && ++shared[{std::min(h[a], h[b]), std::max(h[a], h[b])}] == side)
-                    root[find(h[a])] = find(h[b]);
+        for (int d = 0; d < t.tiling().neighbours; ++d) {
+            const Site n = neighbour_of(t.tiling(), t.sites[p], d);
+            const auto it = std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(n, -1));
+            if (it != sorted.end() && it->first == n) root[find(p)] = find(it->second);
+        }
     int pieces = 0;
     for (int p = 0; p < np; ++p) pieces += find(p) == p;
     return pieces;
