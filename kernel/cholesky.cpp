@@ -317,8 +317,8 @@ cholmod_common* start_common() {
     c->final_ll = 0;
     // Room left in each column when the factor is unpacked (grow1 * nz + grow2 entries) and by
     // how much the whole grows when a column outgrows it (grow0).
-    c->grow1 = 1.2;
-    c->grow2 = 24;
+    c->grow1 = 1.0;
+    c->grow2 = 16;
     c->grow0 = 1.5;
     return c;
 }

@@ -10,6 +10,8 @@
 #include "relax.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -126,6 +128,17 @@ MinimizeResult relax_by_policy(const Model& model, const Topology& topology, con
                     if (done) {
                         out.parent.from_parent = true;
                         ++counters.parent_factor;
+#ifndef NDEBUG
+                        // Debug builds: every 16th relaxation from a parent against a fresh one.
+                        static std::atomic<int> checked{0};
+                        if (r.converged && checked++ % 16 == 0) {
+                            StiffnessCache fresh_cache(topology);
+                            const MinimizeResult fresh = relax_newton(model, topology, request.minimize, &fresh_cache);
+                            if (fresh.converged && std::abs(fresh.energy - r.energy) > 1e-6 * std::abs(fresh.energy) + 1e-300)
+                                throw std::logic_error("relaxation from the parent's factor: energy " + std::to_string(r.energy) +
+                                                       " against " + std::to_string(fresh.energy) + " relaxed fresh");
+                        }
+#endif
                         child->displacement = r.displacement;
                         if (request.keep_factor) out.factor = std::move(child);
                     } else {
