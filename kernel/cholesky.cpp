@@ -382,8 +382,8 @@ std::unique_ptr<ModifiableFactor> ModifiableFactor::make(int n, const std::vecto
     f->factor_ = L;
     // Unpacked, with room in every column for the entries rows added later bring (a row added
     // last puts one entry in each column of its row's pattern): without it, CHOLMOD moved
-    // columns and repacked the whole factor on most row additions (a fifth of a child's
-    // relaxation, measured on the 817-particle disk).
+    // columns and repacked the whole factor on most row additions (a large share of a child's
+    // relaxation in a profile of the 817-particle disk).
     if (ok && !cholmod_change_factor(CHOLMOD_REAL, /*to_ll=*/0, /*to_super=*/0, /*to_packed=*/0, /*to_monotonic=*/1, L, c))
         return nullptr;
     f->in_use_.assign(f->n_, 0);

@@ -149,10 +149,10 @@ inline double place_unknown_corners(const Topology& topology, Vector& u, std::ve
 
 // The corners only particles that joined hold (dof: their degrees of freedom), relaxed with
 // every other corner held: damped Newton on the joining particles' energy, a dense problem of at
-// most 12 unknowns per particle. The rigid fit leaves a joining particle strained (measured on a
-// disk of 217: its start 40 % above the child's minimum energy and an exact Hessian with an
-// eigenvalue of -0.8 against a stiffness of 1e-2); relaxed this way, 0.15 % above it and
-// positive definite, and the chord steps then converge in a few steps.
+// most 12 unknowns per particle. The rigid fit leaves a joining particle strained: on disks its
+// exact Hessian had an eigenvalue far below the network's stiffness and the start's energy was
+// well above the child's minimum; relaxed this way, the start is close to the minimum, the
+// matrix positive definite, and the chord steps converge in a few steps (bench_parent_relax).
 template <class Model>
 void relax_new_corners(const Network<Model>& net, Vector& u, const std::vector<int>& particles,
                        const std::vector<int>& dof, double tolerance) {
@@ -475,7 +475,7 @@ std::shared_ptr<RelaxedCluster> modified_cluster(const Model& model, const Topol
     // update, the negative part a downdate (after the rows are added, so that no intermediate
     // matrix loses definiteness needlessly). One block per particle, not one for all: a column
     // of V spanning two particles far apart would join their paths in the elimination tree, and
-    // the update would fill L along both (measured: +20 % nonzeros for a surface move).
+    // the update would fill L along both (a surface move grew nnz(L) several times as much).
     std::map<int, std::vector<std::pair<int, double>>> new_columns;
     struct Block {
         std::vector<int> rows;
