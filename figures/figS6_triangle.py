@@ -16,7 +16,7 @@ from pyfrustrate.topology import site_positions
 
 TILING = "triangle"
 SPRING_COLORS = {"yellow": plotting.YELLOW, "red": plotting.RED_CORNER, "coupling": plotting.BLUE_SPRING}
-CATALOGUE = [("single", "single particle"), ("disk_R1", "disk R = 1"), ("disk_R3", "disk R = 3"),
+CATALOGUE = [("single", "single particle"), ("disk_R1", "disk, $R$ = 1"), ("disk_R3", "disk, $R$ = 3"),
              ("fiber_cut0", "fibre, flat edges"), ("fiber_cut1", "fibre, one sawtooth edge"),
              ("fiber_cut2", "fibre, zig-zag edges"), ("bulk", "bulk"), ("holes_vacancy3", "holes (1 in 6)"),
              ("holes_vacancy4", "holes (1 in 8)"), ("holes_hexagonal", "holes (hexagonal)")]
@@ -89,7 +89,7 @@ def panel_aggregates(fig, d, norm, top):
     ax.set_title("fibre (flat edges)")
     cax = fig.add_axes(rect(12.3, top - 3.7, 0.2, 2.8))
     fig.colorbar(polys, cax=cax)
-    cax.set_ylabel("energy per particle\n" r"/ $e_{\rm bulk}$")
+    cax.set_ylabel(plotting.LABELS["energy"].replace(" per particle", "\nper particle"))  # two lines: 3 cm tall
 
 
 def panel_bulk(fig, d, top):
@@ -123,8 +123,10 @@ def panel_diagram(fig, diagram, continuum, runs, top):
         point = (min(float(r["Gamma"]), G_max), float(r["nu"]))
         target = inset if float(r["Gamma"]) < 0.01 else ax
         target.plot(*point, "s", ms=5, mfc="w", mec="k", mew=0.7, zorder=6, clip_on=False)
-        target.annotate(str(k), point, xytext=(4, 3), textcoords="offset points", fontsize=7, zorder=7,
-                        color="w" if target is ax else "k")
+        # On the side panel the number goes left of its symbol: the boundary runs just right of it.
+        target.annotate(str(k), point, xytext=(4, 3) if target is ax else (-4, 3), textcoords="offset points",
+                        fontsize=7, zorder=7, color="w" if target is ax else "k",
+                        ha="left" if target is ax else "right")
     letter(fig, ax, "d", 0.1, top)
 
 
@@ -153,8 +155,6 @@ def panel_snapshots(fig, runs, top):
             spine.set_color("0.6")
             spine.set_linewidth(0.4)
         sub.set_title(rf"{k}: $\Gamma$ = {float(r['Gamma']):g}, $\nu$ = {float(r['nu']):g}", pad=2)
-        sub.text(0.03, 0.03, f"{int(r['n'])} in {plotting.box_label(box)} cells", transform=sub.transAxes,
-                 fontsize=6, va="bottom", bbox=dict(boxstyle="round,pad=0.15", fc="w", ec="none", alpha=0.85))
 
 
 def panel_catalogue(fig, d, norm, top):
