@@ -68,17 +68,24 @@ STRUCTURE_LABELS = {"single": "one aggregate", "wrapping_fiber": "fibre around t
                     "aggregates": "several aggregates", "gas": "gas", "bulk": "bulk"}
 
 
+def matching_prediction(run, predictions):
+    """The finite-size prediction (a file of the montecarlo_finite_aggregates or
+    triangle_finite_aggregates rule) made for a Monte Carlo run's particle number and nu; None
+    when there is none."""
+    for f in predictions:
+        if int(f["n"]) == int(run["n"]) and abs(float(f["nu"]) - float(run["nu"])) < 1e-9:
+            return f
+    return None
+
+
 def gap_to_best_single(run, predictions):
     """A Monte Carlo run's final energy above the best single aggregate of as many particles at
     its nu and g (``ansatz.energy_above_best_single``), in bulk particle energies, from the
-    finite-size ``predictions`` (files of the montecarlo_finite_aggregates rule); None when none
-    matches the run's particle number and nu."""
+    finite-size ``predictions``; None when none matches the run's particle number and nu."""
     from .ansatz import energy_above_best_single
 
-    for f in predictions:
-        if int(f["n"]) == int(run["n"]) and abs(float(f["nu"]) - float(run["nu"])) < 1e-9:
-            return energy_above_best_single(run["energy"], run["g"], f)
-    return None
+    f = matching_prediction(run, predictions)
+    return None if f is None else energy_above_best_single(run["energy"], run["g"], f)
 
 
 def structure_label(structure: str) -> str:
