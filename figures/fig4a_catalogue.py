@@ -72,8 +72,12 @@ def main(data_path, outputs):
             periods = period_centres(corners, d[f"{name}_energy"])
             centre = periods[len(periods) // 2]  # a curved fibre's mean lies off the fibre
             radius = curvature_radius(corners, d[f"{name}_energy"])
-            ax.text(0.5, -0.02, "straight" if np.isinf(radius) else f"radius of curvature {radius:.0f}",
-                    transform=ax.transAxes, ha="center", va="top", fontsize=6)
+            # Just under the drawn fibre (a curled one ends high in its window), inside the window.
+            drawn = np.asarray(corners)
+            shown = np.abs(drawn.mean(axis=1) - centre).max(axis=1) < HALF_WINDOW  # inside the window
+            lowest = max(drawn[shown][:, :, 1].min(), centre[1] - HALF_WINDOW)
+            ax.text(centre[0], lowest - 0.3, "straight" if np.isinf(radius) else f"radius of curvature {radius:.0f}",
+                    ha="center", va="top", fontsize=6, clip_on=False)
         if name == "bulk":
             draw_cut_lines(ax, centre)
         ax.set_xlim(centre[0] - HALF_WINDOW, centre[0] + HALF_WINDOW)
