@@ -17,8 +17,9 @@ from pyfrustrate.ground_states import EQUILIBRATED_GAP
 from pyfrustrate.io import load_npz, logging_to
 from pyfrustrate.montecarlo import largest_cluster_extent
 
-SCANS = {"fibre": ("Gamma", r"$\Gamma$", "fibre scan"), "disk": ("Gamma", r"$\Gamma$", "disk scan"),
-         "nu": ("nu", r"$\nu$", "$\\nu$ scan")}
+SCANS = {"fibre": ("Gamma", plotting.LABELS["Gamma"], "fibre scan"),
+         "disk": ("Gamma", plotting.LABELS["Gamma"], "disk scan"),
+         "nu": ("nu", plotting.LABELS["nu"], "$\\nu$ scan")}
 SEED_MARKERS = "osD^v<>p"
 WITHIN, ABOVE = "#1b9e77", "#d95f02"  # runs within the criterion and above it (no phase colour)
 
@@ -61,7 +62,8 @@ def main(scale_path, run_paths, points, outputs):
                 ax.annotate(plotting.structure_label(ground[0]).replace(" ", "\n", 1), (x, 0),
                             xytext=(0, -4), textcoords="offset points", ha="center", va="top", fontsize=6,
                             color="0.35")
-        ax.set_xlim(min(xs) - 0.12 * (max(xs) - min(xs) + 0.1), max(xs) + 0.12 * (max(xs) - min(xs) + 0.1))
+        margin = 0.2 * (max(xs) - min(xs) + 0.1)  # the outer structure labels inside the axes
+        ax.set_xlim(min(xs) - margin, max(xs) + margin)
         ax.set_ylim(-0.3 * highest - 3, 1.12 * highest)
         ax.set_xlabel(label)
         ax.set_ylabel(r"$E - E_\mathrm{ground}$ ($e_{\rm bulk}$)" if i == 0 else "")
