@@ -38,7 +38,9 @@ def main(data_path, outputs):
 
     ax = fig.add_axes(rect(0.6, 6.3, 16.6, 1.8))
     draw_chain(ax, d["drawing_x_up"], d["drawing_x_down"])
-    plotting.panel_label(ax, "a", dx_pt=0)
+    # The drawing's equal aspect shrinks its axes: the letter goes where (b)'s stands, 6 pt left
+    # of that panel's axes at 1.4 cm (its right edge; "(b)" is about 0.5 cm wide).
+    plotting.panel_label(ax, "a", at_cm=(1.4 - 6 / 72 * 2.54 - 0.5, HEIGHT_CM - 0.1))
 
     ax = fig.add_axes(rect(1.4, 0.9, 6.9, 4.6))
     n = int(d["n"])

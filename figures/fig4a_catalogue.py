@@ -16,7 +16,7 @@ PANELS = [
     ("fiber_cut1", "fibre, cut 1\n(zig-zag edges)"), ("fiber_cut2", "fibre, cut 2\n(stepped edges)"),
     ("single", "single particle"), ("disk_R1", "disk, $R$ = 1"), ("disk_R3", "disk, $R$ = 3"), ("bulk", "bulk"),
 ]
-WIDTH_CM, HEIGHT_CM, COLS = plotting.PAGE_WIDTH_CM, 8.4, 5
+WIDTH_CM, HEIGHT_CM, COLS = plotting.PAGE_WIDTH_CM, 8.7, 5
 PANEL_CM, HALF_WINDOW = 2.95, 7.0  # every panel shows 2 x HALF_WINDOW particle spacings across
 
 
@@ -50,7 +50,9 @@ def draw_cut_lines(ax, centre):
         direction /= np.linalg.norm(direction)
         ends = centre + np.outer([-0.55 * HALF_WINDOW, 0.55 * HALF_WINDOW], direction)
         ax.plot(*ends.T, color="w", lw=1.4, zorder=5)
-        label = centre + 0.66 * HALF_WINDOW * direction
+        # Cut 0's number at the left end of its line, the others at the right: cuts 0 and 2 are
+        # only 19 degrees apart, and their numbers at one end would touch.
+        label = centre + (-0.68 if cut == 0 else 0.68) * HALF_WINDOW * direction
         ax.text(*label, str(cut), color="k", fontsize=7, fontweight="bold", ha="center", va="center", zorder=6,
                 path_effects=[withStroke(linewidth=2.0, foreground="w")])
 
@@ -61,7 +63,7 @@ def main(data_path, outputs):
     norm = Normalize(0, 1.1)
     for n, (name, title) in enumerate(PANELS):
         i, j = divmod(n, COLS)
-        left, bottom = 0.15 + j * (PANEL_CM + 0.2), HEIGHT_CM - 1.0 - (i + 1) * PANEL_CM - i * 0.9
+        left, bottom = 0.15 + j * (PANEL_CM + 0.2), HEIGHT_CM - 1.3 - (i + 1) * PANEL_CM - i * 0.9
         ax = fig.add_axes([left / WIDTH_CM, bottom / HEIGHT_CM, PANEL_CM / WIDTH_CM, PANEL_CM / HEIGHT_CM])
         corners = d[f"{name}_corners"]
         polys = plotting.draw_hexagons(ax, corners, d[f"{name}_energy"], cmap="magma", norm=norm, linewidth=0.2)
@@ -70,14 +72,19 @@ def main(data_path, outputs):
             periods = period_centres(corners, d[f"{name}_energy"])
             centre = periods[len(periods) // 2]  # a curved fibre's mean lies off the fibre
             radius = curvature_radius(corners, d[f"{name}_energy"])
-            ax.text(0.5, -0.02, "straight" if np.isinf(radius) else f"radius of curvature {radius:.0f}",
-                    transform=ax.transAxes, ha="center", va="top", fontsize=6)
+            # Just under the drawn fibre (a curled one ends high in its window), inside the window.
+            drawn = np.asarray(corners)
+            shown = np.abs(drawn.mean(axis=1) - centre).max(axis=1) < HALF_WINDOW  # inside the window
+            lowest = max(drawn[shown][:, :, 1].min(), centre[1] - HALF_WINDOW)
+            ax.text(centre[0], lowest - 0.3, "straight" if np.isinf(radius) else f"radius of curvature {radius:.0f}",
+                    ha="center", va="top", fontsize=6, clip_on=False)
         if name == "bulk":
             draw_cut_lines(ax, centre)
         ax.set_xlim(centre[0] - HALF_WINDOW, centre[0] + HALF_WINDOW)
         ax.set_ylim(centre[1] - HALF_WINDOW, centre[1] + HALF_WINDOW)
         ax.set_title(title, pad=2)
         ax.axis("off")
+    plotting.panel_label(ax, "a", at_cm=(0.1, HEIGHT_CM - 0.1))
     cax = fig.add_axes([16.0 / WIDTH_CM, 1.0 / HEIGHT_CM, 0.22 / WIDTH_CM, 5.0 / HEIGHT_CM])
     fig.colorbar(polys, cax=cax, extend="max")
     cax.set_ylabel(plotting.LABELS["energy"])

@@ -33,7 +33,19 @@ def draw_profile(fig, strip_ax, ax, fits):
     polys = plotting.draw_hexagons(strip_ax, corners[keep], energy[keep], cmap="magma", linewidth=0.1)
     polys.set_clim(0, max(1.0, energy[keep].max()))
     strip_ax.axis("off")
-    bar = fig.colorbar(polys, ax=strip_ax, orientation="horizontal", fraction=0.08, pad=0.03, aspect=30)
+    # The axes shrunk to the drawing's own aspect, centred on the profile's height with the colour
+    # bar right under it: no blank band between the drawing and its bar.
+    (x0, y0), (x1, y1) = corners[keep].reshape(-1, 2).min(axis=0), corners[keep].reshape(-1, 2).max(axis=0)
+    strip_ax.set_xlim(x0, x1)
+    strip_ax.set_ylim(y0, y1)
+    box, fig_w, fig_h = strip_ax.get_position(), *fig.get_size_inches()
+    height = box.width * fig_w * (y1 - y0) / (x1 - x0) / fig_h
+    bar_gap, bar_height = 0.15 / 2.54 / fig_h, 0.25 / 2.54 / fig_h
+    profile = ax.get_position()
+    top = profile.y0 + profile.height / 2 + (height + bar_gap + bar_height) / 2
+    strip_ax.set_position([box.x0, top - height, box.width, height])
+    cax = fig.add_axes([box.x0, top - height - bar_gap - bar_height, box.width, bar_height])
+    bar = fig.colorbar(polys, cax=cax, orientation="horizontal")
     bar.set_label(plotting.LABELS["energy"])
     d, excess = fits["example_distance"], np.abs(fits["example_excess"])
     ok = excess > 0
@@ -91,6 +103,10 @@ def continuum_size(kind, nu, Gamma):
     return continuum.optimal_width(nu, Gamma) if kind == "fiber" else continuum.optimal_radius(nu, Gamma)
 
 
+#: Fewest particles whose median (e) draws: fewer give one particle's curve, not a trend.
+MIN_PARTICLES_PER_MEDIAN = 10
+
+
 def draw_size_ratios(ax, sizes, kind):
     """W*/W*_continuum and R*/R*_continuum of each particle against its own prediction (its own
     nu and ell), over Gamma / Gamma_max: every particle out to where its bulk takes over. Sizes
@@ -113,6 +129,8 @@ def draw_size_ratios(ax, sizes, kind):
         warnings.simplefilter("ignore", RuntimeWarning)
         for subset, style, label in ((np.ones(len(ratio), bool), "-", "median, all"),
                                      (sizes["ell"] >= 1.5, "--", r"median, $\ell \geq 1.5$")):
+            if subset.sum() < MIN_PARTICLES_PER_MEDIAN:
+                continue  # a median of a handful of particles is one particle's curve, not a trend
             rows = ratio[subset]
             enough = np.sum(np.isfinite(rows), axis=0) >= max(5, 0.2 * len(rows))
             med = np.nanmedian(rows, axis=0)
@@ -130,9 +148,9 @@ def draw_size_ratios(ax, sizes, kind):
     ax.set_xlabel(r"$\Gamma/\Gamma_\mathrm{max}$ (each particle's own)")
     ax.set_ylabel(rf"${symbol}^*/{symbol}^*_\mathrm{{continuum}}(\nu, \ell)$")
     defined = np.isfinite(predicted) & (x[None, :] > 0) & (x[None, :] < 1)
-    ax.text(0.98, 0.03, f"capped: {100 * capped[defined].mean():.0f} % of defined points\n"
+    ax.text(0.98, 0.96, f"capped: {100 * capped[defined].mean():.0f} % of defined points\n"
             f"no finite continuum optimum: {100 * (1 - defined[:, 1:-1].mean()):.0f} %",
-            transform=ax.transAxes, ha="right", va="bottom", fontsize=6)
+            transform=ax.transAxes, ha="right", va="top", fontsize=6)  # top right: above every curve's end
     ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=2)
 
 
@@ -171,24 +189,25 @@ def main(summary_path, fits_path, size_paths, outputs):
               "ell", "nu", "width", "radius", "width_capped", "radius_capped")}
     sizes["Gamma_relative"] = parts[0]["Gamma_relative"]
     sizes["Gamma"] = parts[0]["Gamma"]
-    width, height = plotting.PAGE_WIDTH_CM, 22.5
+    width, height = plotting.PAGE_WIDTH_CM, 23.0
     fig = plotting.figure(width, height)
 
     def rect(left, bottom, w, h):
         return [left / width, bottom / height, w / width, h / height]
 
-    ax = fig.add_axes(rect(0.2, 17.6, 4.2, 4.4))
+    ax = fig.add_axes(rect(0.2, 18.1, 4.2, 4.4))
     draw_distances(ax)
     plotting.panel_label(ax, "a", at_cm=(0.1, height - 0.1))
-    strip = fig.add_axes(rect(4.8, 17.4, 5.6, 4.6))
-    profile = fig.add_axes(rect(12.0, 18.0, 5.5, 3.9))
+    strip = fig.add_axes(rect(4.8, 18.0, 5.6, 4.6))  # height and place set by draw_profile
+    profile = fig.add_axes(rect(12.0, 18.7, 5.5, 3.7))
     draw_profile(fig, strip, profile, fits)
     plotting.panel_label(strip, "b", at_cm=(4.8, height - 0.1))
 
-    ax = fig.add_axes(rect(1.4, 12.0, 4.4, 4.4))
+    # The pair of square panels centred on the page, each with room for its axis labels.
+    ax = fig.add_axes(rect(3.0, 11.9, 5.1, 5.1))
     draw_ell(ax, summary)
-    plotting.panel_label(ax, "c")
-    draw_fit_check(fig.add_axes(rect(10.4, 12.0, 4.4, 4.4)), fits)
+    plotting.panel_label(ax, "c", dx_pt=-6 - (3.0 - 1.4) * 72 / 2.54)  # in line with (d) and (e), whose axes start at 1.4 cm
+    draw_fit_check(fig.add_axes(rect(10.8, 11.9, 5.1, 5.1)), fits)
 
     ax_w, ax_r = fig.add_axes(rect(1.4, 6.6, 6.6, 4.0)), fig.add_axes(rect(10.4, 6.6, 6.6, 4.0))
     draw_sizes_over_ell(ax_w, sizes, "fiber")

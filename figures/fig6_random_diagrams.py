@@ -36,7 +36,7 @@ def main(paths, edges, outputs):
     line_nu = np.linspace(-0.99, 1.0, 400)
     lines = continuum.critical_line_tensions(line_nu)
     cmap = ListedColormap([plotting.PHASE_COLORS[p] for p in rp.PHASE_CODES])
-    width_cm, height_cm = plotting.PAGE_WIDTH_CM, 7.6
+    width_cm, height_cm = plotting.PAGE_WIDTH_CM, 7.7  # room for three-line titles under the legend
     fig = plotting.figure(width_cm, height_cm)
     panel_w, gap = 4.2, 0.4
     axes = [fig.add_axes([(1.45 + i * (panel_w + gap)) / width_cm, 1.1 / height_cm, panel_w / width_cm, 4.9 / height_cm])
@@ -66,13 +66,12 @@ def main(paths, edges, outputs):
                 ax.plot(getattr(lines, key), line_nu, "--", color="k", lw=0.7)
         median = float(np.median(gamma_max))
         ax.axvline(median, color="w", lw=1.0, ls=":")
-        ax.text(median, 0.02, rf"median $\Gamma_\mathrm{{max}}$" "\n" f"= {median:.2f}", fontsize=6, color="w",
-                va="bottom", ha="center", transform=ax.get_xaxis_transform(),
-                bbox=dict(boxstyle="round,pad=0.2", fc="0.2", ec="none", alpha=0.8))
         beyond = float(np.mean(gamma_max > G[-1]))
         hi = "\\infty" if edges[i + 1] > 1e6 else f"{edges[i + 1]:g}"
-        ax.set_title(rf"$\ell \in [{edges[i]:g}, {hi})$, {len(nu)} particles"
-                     + (f"\n({100 * beyond:.0f} % bind beyond the axis)" if beyond > 0 else ""))
+        # The median in the title, not on the panel, where it would cover the phases.
+        ax.set_title(rf"$\ell \in [{edges[i]:g}, {hi})$, {len(nu)} particles" "\n"
+                     rf"median $\Gamma_\mathrm{{max}}$ = {median:.2f}"
+                     + (f"\n{100 * beyond:.0f} % bind beyond the axis" if beyond > 0 else ""))
         ax.set_xlim(0, G[-1])
         ax.set_xticks([0, 0.5, 1, 1.5, 2, 5, 10, 20, 50], ["0", "", "1", "", "2", "5", "10", "20", ""])  # 50 would touch the next panel's 0
         ax.set_ylim(-1, 1)
@@ -81,7 +80,8 @@ def main(paths, edges, outputs):
             ax.tick_params(labelleft=False)
         plotting.panel_label(ax, "abcdef"[i])
     axes[0].set_ylabel(r"Poisson ratio $\nu$ (pseudo-moduli)")
-    plotting.phase_legend(axes[1], rp.PHASE_CODES, ncol=4, bbox_to_anchor=(0.5, 1.1))
+    plotting.phase_legend(axes[1], rp.PHASE_CODES, dashed_continuum=True, ncol=5, loc="upper center",
+                          bbox_to_anchor=(0.5, (height_cm - 0.05 - 1.1) / 4.9))  # at the page's top
     plotting.size_colorbars(fig, meshes, (15.5, 1.1, 4.4), gap_cm=1.1)
     plotting.save(fig, outputs)
 

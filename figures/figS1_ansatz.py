@@ -11,7 +11,7 @@ WIDTH_CM, HEIGHT_CM = plotting.COLUMN_WIDTH_CM, 7.4
 def main(diagram_path, continuum_path, outputs):
     diagram = load_npz(diagram_path)
     fig = plotting.figure(WIDTH_CM, HEIGHT_CM)
-    ax = fig.add_axes([1.1 / WIDTH_CM, 1.0 / HEIGHT_CM, 5.0 / WIDTH_CM, 5.0 / HEIGHT_CM])
+    ax = fig.add_axes([1.1 / WIDTH_CM, 1.0 / HEIGHT_CM, 4.8 / WIDTH_CM, 5.0 / HEIGHT_CM])
     meshes, phases = plotting.draw_ansatz_diagram(ax, diagram, load_npz(continuum_path))
     plotting.phase_legend(ax, phases, dashed_continuum=True, ncol=3, bbox_to_anchor=(0.6, 1.0))
     plotting.size_colorbars(fig, meshes, (6.3, 1.0, 4.5), gap_cm=1.2)

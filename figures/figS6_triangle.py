@@ -9,14 +9,14 @@ import numpy as np
 from matplotlib.collections import LineCollection, PolyCollection
 from matplotlib.colors import Normalize
 
-from pyfrustrate import plotting
+from pyfrustrate import ansatz, plotting
 from pyfrustrate.io import load_npz, logging_to
 from pyfrustrate.montecarlo import clusters
 from pyfrustrate.topology import site_positions
 
 TILING = "triangle"
 SPRING_COLORS = {"yellow": plotting.YELLOW, "red": plotting.RED_CORNER, "coupling": plotting.BLUE_SPRING}
-CATALOGUE = [("single", "single particle"), ("disk_R1", "disk R = 1"), ("disk_R3", "disk R = 3"),
+CATALOGUE = [("single", "single particle"), ("disk_R1", "disk, $R$ = 1"), ("disk_R3", "disk, $R$ = 3"),
              ("fiber_cut0", "fibre, flat edges"), ("fiber_cut1", "fibre, one sawtooth edge"),
              ("fiber_cut2", "fibre, zig-zag edges"), ("bulk", "bulk"), ("holes_vacancy3", "holes (1 in 6)"),
              ("holes_vacancy4", "holes (1 in 8)"), ("holes_hexagonal", "holes (hexagonal)")]
@@ -55,6 +55,7 @@ def draw_springs(ax, corners, springs, kinds, linewidth=1.0, nodes=True, markers
 
 WIDTH_CM, HEIGHT_CM = plotting.PAGE_WIDTH_CM, 22.6
 SNAPSHOT_CM, CATALOGUE_HALF_WINDOW = 2.2, 5.0
+NOTE_CM = 0.6  # two lines of 6 pt text at a snapshot's foot
 
 
 def rect(left, bottom, w, h):
@@ -89,7 +90,7 @@ def panel_aggregates(fig, d, norm, top):
     ax.set_title("fibre (flat edges)")
     cax = fig.add_axes(rect(12.3, top - 3.7, 0.2, 2.8))
     fig.colorbar(polys, cax=cax)
-    cax.set_ylabel("energy per particle\n" r"/ $e_{\rm bulk}$")
+    cax.set_ylabel(plotting.LABELS["energy"].replace(" per particle", "\nper particle"))  # two lines: 3 cm tall
 
 
 def panel_bulk(fig, d, top):
@@ -123,14 +124,20 @@ def panel_diagram(fig, diagram, continuum, runs, top):
         point = (min(float(r["Gamma"]), G_max), float(r["nu"]))
         target = inset if float(r["Gamma"]) < 0.01 else ax
         target.plot(*point, "s", ms=5, mfc="w", mec="k", mew=0.7, zorder=6, clip_on=False)
-        target.annotate(str(k), point, xytext=(4, 3), textcoords="offset points", fontsize=7, zorder=7,
-                        color="w" if target is ax else "k")
+        # On the side panel the number goes left of its symbol: the boundary runs just right of it.
+        target.annotate(str(k), point, xytext=(4, 3) if target is ax else (-4, 3), textcoords="offset points",
+                        fontsize=7, zorder=7, color="w" if target is ax else "k",
+                        ha="left" if target is ax else "right")
     letter(fig, ax, "d", 0.1, top)
 
 
-def panel_snapshots(fig, runs, top):
+def panel_snapshots(fig, runs, finite, top):
+    """Each run centred on its largest cluster, in the part of its panel above its note: the
+    final energy above the best single aggregate of as many triangles (Delta E), and that
+    aggregate's width x length (gyration dimensions, particle spacings)."""
     cols = 4
     panel_w, panel_h = WIDTH_CM / cols, SNAPSHOT_CM
+    note = NOTE_CM / panel_h
     for k, r in enumerate(runs, start=1):
         i, j = divmod(k - 1, cols)
         sub = fig.add_axes(rect(j * panel_w + 0.1, top - (i + 1) * (panel_h + 0.55), panel_w - 0.2, panel_h))
@@ -142,9 +149,11 @@ def panel_snapshots(fig, runs, top):
         xy = site_positions(coords, TILING)
         c = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
         aspect = panel_h / (panel_w - 0.2)
-        half = max(12.0, 0.5 * np.ptp(xy, axis=0).max() + 2)
+        extent = np.ptp(xy, axis=0)
+        half = max(12.0, 0.5 * max(extent[0], extent[1] / (aspect * (1 - note))) + 2)
         sub.set_xlim(c[0] - half, c[0] + half)
-        sub.set_ylim(c[1] - aspect * half, c[1] + aspect * half)
+        window_top = c[1] + aspect * half * (1 - note)
+        sub.set_ylim(window_top - 2 * aspect * half, window_top)
         sub.set_axis_on()
         sub.set_xticks([])
         sub.set_yticks([])
@@ -153,7 +162,13 @@ def panel_snapshots(fig, runs, top):
             spine.set_color("0.6")
             spine.set_linewidth(0.4)
         sub.set_title(rf"{k}: $\Gamma$ = {float(r['Gamma']):g}, $\nu$ = {float(r['nu']):g}", pad=2)
-        sub.text(0.03, 0.03, f"{int(r['n'])} in {plotting.box_label(box)} cells", transform=sub.transAxes,
+        prediction = plotting.matching_prediction(r, finite)
+        if prediction is None:
+            raise ValueError(f"finite_paths: no prediction for n = {int(r['n'])}, nu = {float(r['nu']):g}")
+        shapes = ansatz.FiniteAggregates.from_arrays(prediction)
+        best = int(shapes.best(float(r["g"])))
+        sub.text(0.03, 0.03, rf"$\Delta E$ = {plotting.gap_to_best_single(r, finite):+.1f} $e_{{\rm bulk}}$" "\n"
+                 f"best single: {shapes.width[best]:.1f} × {shapes.length[best]:.1f}", transform=sub.transAxes,
                  fontsize=6, va="bottom", bbox=dict(boxstyle="round,pad=0.15", fc="w", ec="none", alpha=0.85))
 
 
@@ -174,7 +189,7 @@ def panel_catalogue(fig, d, norm, top):
             letter(fig, ax, "e", 0.1, top + 0.1)
 
 
-def main(shapes_path, diagram_path, continuum_path, snapshot_paths, outputs):
+def main(shapes_path, diagram_path, continuum_path, snapshot_paths, finite_paths, outputs):
     d = load_npz(shapes_path)
     diagram = load_npz(diagram_path)
     runs = sorted((load_npz(p) for p in snapshot_paths), key=lambda r: (-float(r["nu"]), float(r["Gamma"])))
@@ -187,7 +202,7 @@ def main(shapes_path, diagram_path, continuum_path, snapshot_paths, outputs):
     top -= 4.6
     panel_diagram(fig, diagram, load_npz(continuum_path), runs, top)
     top -= 6.9
-    panel_snapshots(fig, runs, top)
+    panel_snapshots(fig, runs, [load_npz(p) for p in finite_paths], top)
     top -= 2 * (SNAPSHOT_CM + 0.55) + 0.2
     panel_catalogue(fig, d, norm, top)
     plotting.save(fig, outputs)
@@ -196,4 +211,5 @@ def main(shapes_path, diagram_path, continuum_path, snapshot_paths, outputs):
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         main(snakemake.input.shapes, snakemake.input.diagram, snakemake.input.continuum[0],  # noqa: F821
-             snakemake.input.snapshots, [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             snakemake.input.snapshots, snakemake.input.finite,  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821

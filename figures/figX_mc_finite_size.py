@@ -71,8 +71,9 @@ def main(run_paths, finite_paths, outputs):
 
     large = sorted((r for r in runs if str(r["kind"]) == "large"),
                    key=lambda r: (-float(r["nu"]), float(r["Gamma"])))
-    cols = 3
-    rows = max(1, int(np.ceil(len(large) / cols)))
+    # At most three columns, as few rows as that allows, the rows filled evenly (4 runs: 2 x 2).
+    rows = max(1, int(np.ceil(len(large) / 3)))
+    cols = max(1, int(np.ceil(len(large) / rows)))
     panel, top = (width_cm - 7.0) / cols, height_cm - 0.9
     step = (top - 0.2) / rows
     for k, r in enumerate(large):
@@ -93,7 +94,7 @@ def main(run_paths, finite_paths, outputs):
         w, l = gyration_dimensions(coords)
         wrap = ", wraps" if rank else ""
         gap = plotting.gap_to_best_single(r, finite)
-        gap = "" if gap is None else rf", $\Delta E$ = {gap:+.0f}"
+        gap = "" if gap is None else rf", $\Delta E$ = {gap:+.0f} $e_{{\rm bulk}}$"
         sub.set_title(rf"$\Gamma$ = {float(r['Gamma']):g}, $\nu$ = {float(r['nu']):g}" "\n"
                       rf"$W$ = {w:.0f}, $L$ = {l:.0f}{wrap}{gap}")
     if large:

@@ -4,9 +4,9 @@ run judged against the predicted ground state of its own box (ell = 5).
 Top row, one panel per scan (the fibre scan at fixed nu, the disk scan at fixed nu, the nu scan
 at fixed Gamma): each marker is one run (one per seed), its final energy above the box's
 predicted ground state (ground_states.box_candidates: single aggregates, a fibre wrapping the
-box, several aggregates, the gas) in bulk particle energies e_b. Filled: the run ends in that
+box, several aggregates, the gas) in bulk particle energies e_bulk. Filled: the run ends in that
 ground state's structure (ground_states.structure); hollow: in another. The grey band is the
-equilibration criterion (within EQUILIBRATED_GAP e_b). Bottom row: the final state of the first
+equilibration criterion (within EQUILIBRATED_GAP e_bulk). Bottom row: the final state of the first
 seed at every distinct point of the scans (a point two scans share is drawn once), each centred
 on its largest cluster, all on one scale.
 """
@@ -17,8 +17,9 @@ from pyfrustrate.ground_states import EQUILIBRATED_GAP
 from pyfrustrate.io import load_npz, logging_to
 from pyfrustrate.montecarlo import largest_cluster_extent
 
-SCANS = {"fibre": ("Gamma", r"$\Gamma$", "fibre scan"), "disk": ("Gamma", r"$\Gamma$", "disk scan"),
-         "nu": ("nu", r"$\nu$", "$\\nu$ scan")}
+SCANS = {"fibre": ("Gamma", plotting.LABELS["Gamma"], "fibre scan"),
+         "disk": ("Gamma", plotting.LABELS["Gamma"], "disk scan"),
+         "nu": ("nu", plotting.LABELS["nu"], "$\\nu$ scan")}
 SEED_MARKERS = "osD^v<>p"
 WITHIN, ABOVE = "#1b9e77", "#d95f02"  # runs within the criterion and above it (no phase colour)
 
@@ -61,10 +62,11 @@ def main(scale_path, run_paths, points, outputs):
                 ax.annotate(plotting.structure_label(ground[0]).replace(" ", "\n", 1), (x, 0),
                             xytext=(0, -4), textcoords="offset points", ha="center", va="top", fontsize=6,
                             color="0.35")
-        ax.set_xlim(min(xs) - 0.12 * (max(xs) - min(xs) + 0.1), max(xs) + 0.12 * (max(xs) - min(xs) + 0.1))
+        margin = 0.2 * (max(xs) - min(xs) + 0.1)  # the outer structure labels inside the axes
+        ax.set_xlim(min(xs) - margin, max(xs) + margin)
         ax.set_ylim(-0.3 * highest - 3, 1.12 * highest)
         ax.set_xlabel(label)
-        ax.set_ylabel(r"$E - E_\mathrm{ground}$ ($e_b$)" if i == 0 else "")
+        ax.set_ylabel(r"$E - E_\mathrm{ground}$ ($e_{\rm bulk}$)" if i == 0 else "")
         in_scan = [k for _, nu, G in (p for p in points if p[0] == scan) for k in rows_of(scale, nu, G)]
         within = int((scale["gap_ground"][in_scan] <= EQUILIBRATED_GAP).sum())
         ax.set_title(f"{title}, {fixed}: {within} of {len(in_scan)} within {EQUILIBRATED_GAP:g}")
@@ -92,7 +94,7 @@ def main(scale_path, run_paths, points, outputs):
         ax.set_yticks([])
         k = rows_of(scale, nu, G)[0]
         ax.set_title(f"$\\nu$ = {nu:g}, $\\Gamma$ = {G:g}\n"
-                     f"{float(scale['gap_ground'][k]):+.1f} $e_b$", fontsize=7)
+                     f"{float(scale['gap_ground'][k]):+.1f} $e_{{\\rm bulk}}$", fontsize=7)
     plotting.save(fig, outputs)
 
 

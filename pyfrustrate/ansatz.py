@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from . import _checks, continuum, topology
-from .relaxation import relax
+from .relaxation import _connected_parts, relax
 
 #: Aggregate kind of each candidate family, for the diagrams' colour code.
 FAMILY_PHASE = {
@@ -567,13 +567,14 @@ def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", to
 
     Parameters
     ----------
-    particle : Hexagon or RandomHexagon
-        A particle of the hexagon tiling.
+    particle : Hexagon, Triangle or RandomHexagon
+        The particle model; the shapes are cut from its tiling (``topology.stadium_sites``).
     n : int
         Particles per aggregate.
     segments : array_like, optional
         Core segment lengths of the shapes (``topology.stadium_sites``), lattice spacings
-        (default ``FINITE_SEGMENTS * sqrt(n)``).
+        (default ``FINITE_SEGMENTS * sqrt(n)`` on the hexagon tiling, ``sqrt(n / 2)`` on the
+        triangle one, whose particles cover half the area).
     method : {'auto', 'newton', 'lbfgs', 'linear'}, optional
         As for ``relax``.
     tol : float, optional
@@ -582,14 +583,15 @@ def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", to
     Returns
     -------
     FiniteAggregates
-        Round shapes first, then faceted ones, each in the order of ``segments``.
+        Round shapes first, then faceted ones, each in the order of ``segments``; a shape that
+        falls into pieces (a round triangle strip thinner than a row) is left out.
 
     Raises
     ------
     TypeError
         If ``particle`` is not a particle model.
     ValueError
-        For a triangle-tiling particle, bad ``segments`` or ``n``, or ``n`` too large for memory.
+        For bad ``segments`` or ``n``, or ``n`` too large for memory.
 
     Examples
     --------
@@ -602,10 +604,12 @@ def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", to
     >>> int(shapes.best(g)), float(shapes.best_aspect_ratio(g))  # the compact hexagon of 19
     (2, 1.0)
     """
-    if _checks.particle("particle", particle).tiling != "hexagon":
-        raise ValueError("particle: finite-size predictions are built for hexagon tilings only")
+    tiling = _checks.particle("particle", particle).tiling
     if segments is None:
-        segments = np.asarray(FINITE_SEGMENTS) * np.sqrt(n)
+        # In units of the side of a square of the aggregate's area, counted in hexagons: the same
+        # shapes on both tilings (a triangle covers half a hexagon's area).
+        area = topology.area_per_particle(tiling) / topology.area_per_particle("hexagon")
+        segments = np.asarray(FINITE_SEGMENTS) * np.sqrt(n * area)
     segments = np.atleast_1d(np.asarray(segments, float))
     if segments.ndim != 1 or segments.size == 0:
         raise ValueError(f"segments must be a non-empty 1D sequence, got shape {segments.shape}")
@@ -613,10 +617,14 @@ def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", to
     kwargs: dict[str, Any] = {"x0": "linear"} if method == "lbfgs" else {}
     for faceted in (False, True):
         for segment in segments:
-            sites = topology.stadium_sites(n, segment, faceted=faceted)
-            r = relax(particle, topology.cluster(sites), method=method, tol=tol, **kwargs)
+            sites = topology.stadium_sites(n, segment, faceted=faceted, tiling=tiling)
+            cluster = topology.cluster(sites, tiling=tiling)
+            if _connected_parts(cluster) > 1:
+                continue  # a strip thinner than a row of triangles breaks up: no single aggregate
+            r = relax(particle, cluster, method=method, tol=tol, **kwargs)
             shapes.append(sites)
-            rows.append((segment, faceted, r.energy, r.n_bonds, *topology.gyration_dimensions(sites), r.converged))
+            rows.append((segment, faceted, r.energy, r.n_bonds, *topology.gyration_dimensions(sites, tiling),
+                         r.converged))
     # Each row holds the array fields in FiniteAggregates._FIELDS order.
     return FiniteAggregates(int(n), sites=tuple(shapes),
                             **{k: np.array(column) for k, column in zip(FiniteAggregates._FIELDS, zip(*rows))})

@@ -68,17 +68,24 @@ STRUCTURE_LABELS = {"single": "one aggregate", "wrapping_fiber": "fibre around t
                     "aggregates": "several aggregates", "gas": "gas", "bulk": "bulk"}
 
 
+def matching_prediction(run, predictions):
+    """The finite-size prediction (a file of the montecarlo_finite_aggregates or
+    triangle_finite_aggregates rule) made for a Monte Carlo run's particle number and nu; None
+    when there is none."""
+    for f in predictions:
+        if int(f["n"]) == int(run["n"]) and abs(float(f["nu"]) - float(run["nu"])) < 1e-9:
+            return f
+    return None
+
+
 def gap_to_best_single(run, predictions):
     """A Monte Carlo run's final energy above the best single aggregate of as many particles at
     its nu and g (``ansatz.energy_above_best_single``), in bulk particle energies, from the
-    finite-size ``predictions`` (files of the montecarlo_finite_aggregates rule); None when none
-    matches the run's particle number and nu."""
+    finite-size ``predictions``; None when none matches the run's particle number and nu."""
     from .ansatz import energy_above_best_single
 
-    for f in predictions:
-        if int(f["n"]) == int(run["n"]) and abs(float(f["nu"]) - float(run["nu"])) < 1e-9:
-            return energy_above_best_single(run["energy"], run["g"], f)
-    return None
+    f = matching_prediction(run, predictions)
+    return None if f is None else energy_above_best_single(run["energy"], run["g"], f)
 
 
 def structure_label(structure: str) -> str:
@@ -341,6 +348,30 @@ def size_colorbars(fig, mappables: dict, rect_cm: tuple, gap_cm: float = 1.25, w
 SIZE_CONTOURS = (0.5, 1, 2, 4)
 
 
+#: Where the size contours of Fig. 3a are labelled: a height nu at which each phase's contours are
+#: spread out (fibre contours are vertical; disk ones fan out from nu = 1), clear of the
+#: boundaries and of the phase names.
+CONTOUR_LABEL_NU = {"fiber": 0.92, "disk": 0.3}
+
+
+def contour_label_places(contours, nu: float, min_span: float = 0.1) -> list:
+    """One point on each level of ``contours`` for ``clabel(manual=...)``: the vertex nearest
+    to height ``nu`` (a level that does not reach it: its middle vertex). Levels spanning less
+    than ``min_span`` in nu (squeezed into a corner, where a label would cover the boundary)
+    stay unlabelled: the colour bar reads them."""
+    places = []
+    for segments in contours.allsegs:
+        if not any(len(v) for v in segments):
+            continue
+        vertices = np.concatenate([v for v in segments if len(v)])
+        if np.ptp(vertices[:, 1]) < min_span:
+            continue
+        nearest = int(np.argmin(np.abs(vertices[:, 1] - nu)))
+        places.append(tuple(vertices[nearest] if abs(vertices[nearest, 1] - nu) < 0.05 else
+                            vertices[len(vertices) // 2]))
+    return places
+
+
 def draw_continuum_diagram(ax, d: dict) -> dict:
     """The continuum phase diagram (Fig. 3a; ``d``: the continuum phase-diagram file): disk,
     fibre and bulk regions shaded by W*/ell and R*/ell (``size_norm``), contours at
@@ -360,7 +391,8 @@ def draw_continuum_diagram(ax, d: dict) -> dict:
     for name, size, color in (("fiber", d["width"], "#003f4a"), ("disk", d["radius"], "#6b0016")):
         field = np.where(phase == name, size, np.nan)
         contours = ax.contour(G, nu, field, levels=SIZE_CONTOURS, colors=color, linewidths=0.5)
-        ax.clabel(contours, fontsize=MIN_ANNOTATION_PT, fmt="%g", inline_spacing=2)
+        ax.clabel(contours, fontsize=MIN_ANNOTATION_PT, fmt="%g", inline_spacing=2,
+                  manual=contour_label_places(contours, CONTOUR_LABEL_NU[name]))
     boundaries = draw_continuum_boundaries(ax, d)
     triple = continuum_triple_point(boundaries, d["line_nu"])
     ax.plot(*triple, "o", ms=4, mfc="w", mec="k", zorder=5)

@@ -515,7 +515,7 @@ def disk(R: int, tiling: str = "hexagon") -> Topology:
                     label=f"disk R={R}", tiling=tiling)
 
 
-def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.ndarray:
+def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False, tiling: str = "hexagon") -> np.ndarray:
     """The ``n`` sites nearest to a segment of length ``segment`` centred on the origin along ``a1``.
 
     A near-circular aggregate for ``segment = 0``, a rounded strip (a finite cut-0 fibre) of width
@@ -533,6 +533,10 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.nda
     Finite-size predictions use both one-parameter families of single aggregates of exactly
     ``n`` particles (``ansatz.finite_aggregates``).
 
+    On the triangle tiling the distances are those of the triangles' centres from a segment
+    centred on the vertex (0, 0): a faceted shape of ``6 R^2`` triangles at ``segment = 0`` is
+    the hexagon of side ``R``, ``triangle_hexagon_sites(R)``.
+
     Parameters
     ----------
     n : int
@@ -541,11 +545,13 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.nda
         Length of the core segment, in lattice spacings, ``>= 0``.
     faceted : bool, optional
         Hexagonal rather than Euclidean distance.
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
 
     Returns
     -------
-    ndarray of int, shape (n, 2)
-        Hexagon-tiling sites ``(i, j)``.
+    ndarray of int, shape (n, 2) or (n, 3)
+        Sites ``(i, j)``, or ``(i, j, sublattice)`` on the triangle tiling.
 
     Raises
     ------
@@ -563,11 +569,17 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.nda
     segment = non_negative("segment", segment)
     # Enough rows and columns to hold n sites around the segment.
     half = int(np.ceil(segment / 2 + np.sqrt(n))) + 2
-    affordable(f"stadium_sites(n={n}, segment={segment:g})", (4 * half + 1) ** 2 * GRID_BYTES_PER_CELL["stadium_sites"])
+    sublattices = tiling_facts(tiling)["sublattices"]
+    affordable(f"stadium_sites(n={n}, segment={segment:g})",
+               sublattices * (4 * half + 1) ** 2 * GRID_BYTES_PER_CELL["stadium_sites"])
     r = np.arange(-2 * half, 2 * half + 1)
-    i, j = np.meshgrid(r, r, indexing="ij")
-    sites = np.column_stack([i.ravel(), j.ravel()])
-    xy = site_positions(sites)
+    if sublattices > 1:
+        i, j, s = np.meshgrid(r, r, np.arange(sublattices), indexing="ij")
+        sites = np.column_stack([i.ravel(), j.ravel(), s.ravel()])
+    else:
+        i, j = np.meshgrid(r, r, indexing="ij")
+        sites = np.column_stack([i.ravel(), j.ravel()])
+    xy = site_positions(sites, tiling)
     across, along = np.abs(xy[:, 1]), np.abs(xy[:, 0] - np.clip(xy[:, 0], -segment / 2, segment / 2))
     if faceted:
         # The hexagonal distance from the segment: the number of nearest-neighbour steps to it

@@ -166,6 +166,23 @@ def test_finite_aggregates_survive_a_saved_file(finite_400, tmp_path):
     assert ansatz.energy_above_best_single(two_above, g, saved) == pytest.approx(2.0, rel=1e-9)
 
 
+def test_triangle_finite_aggregates_include_the_relaxed_hexagon_of_triangles():
+    """Triangular particles (Fig. S6) get the same finite-size prediction: for n = 6 R^2 the
+    compact faceted shape is the disk of the triangle catalogue, relaxed on its own to the same
+    energy and bonds; a strong binding picks a shape with the most bonds, a weak one a longer
+    shape with fewer."""
+    particle = pf.Triangle.from_continuum(ell=2.5, nu=0.9, eps=0.01)
+    R = 4
+    fa = ansatz.finite_aggregates(particle, 6 * R * R, method="newton")
+    disk = pf.relax(particle, T.disk(R, tiling="triangle"), method="newton")
+    compact = int(np.flatnonzero(fa.faceted & (fa.segment == 0))[0])
+    assert fa.converged.all()
+    assert fa.bonds[compact] == disk.n_bonds
+    assert fa.deformation[compact] == pytest.approx(disk.energy, rel=1e-6)
+    assert fa.bonds[fa.best(1.0)] == fa.bonds.max()
+    assert fa.length[fa.best(0.0)] > fa.length[fa.best(1.0)]
+
+
 def test_finite_aggregates_rejects_empty_segments():
     with pytest.raises(ValueError, match="segments"):
         ansatz.finite_aggregates(pf.Hexagon.from_continuum(ell=2.5, nu=0.9), 10, segments=[])

@@ -217,3 +217,22 @@ def test_cluster_colours_stay_apart_from_phase_colours():
     for colour in plotting.CLUSTER_COLORS:
         rgb = np.array(to_rgb(colour))
         assert min(np.linalg.norm(rgb - p) for p in phases) > 0.3, colour
+
+
+def test_contour_labels_sit_at_the_chosen_height_and_skip_squeezed_levels():
+    """Fig. 3a's size contours are labelled once each, on the level, at the chosen nu; a level
+    confined to a sliver of nu (a corner of the fibre region) gets no label."""
+    import matplotlib.pyplot as plt
+
+    x, y = np.linspace(0, 1, 201), np.linspace(0, 1, 201)
+    X, Y = np.meshgrid(x, y)
+    field = np.where((X < 0.3) & (Y < 0.95), np.nan, X)  # level 0.2 only where y >= 0.95
+    fig, ax = plt.subplots()
+    try:
+        contours = ax.contour(x, y, field, levels=[0.2, 0.5, 0.8])
+        places = plotting.contour_label_places(contours, nu=0.4)
+    finally:
+        plt.close(fig)
+    assert len(places) == 2
+    assert np.allclose([p[0] for p in places], [0.5, 0.8], atol=0.01)
+    assert np.allclose([p[1] for p in places], 0.4, atol=0.01)

@@ -351,6 +351,31 @@ def test_faceted_stadium_of_a_hexagonal_number_is_the_hexagon(R):
     assert set(map(tuple, T.stadium_sites(n, faceted=True).tolist())) == set(map(tuple, T.hexagon_sites(R).tolist()))
 
 
+@pytest.mark.parametrize("R", [1, 2, 5])
+def test_faceted_triangle_stadium_of_6R2_is_the_hexagon_of_triangles(R):
+    """On the triangle tiling the 6 R^2 triangles nearest to a vertex in the lattice's own
+    distance are the hexagon of side R around it (triangle_hexagon_sites, built from the
+    vertices' hexagonal distance instead of the centres')."""
+    sites = T.stadium_sites(6 * R * R, faceted=True, tiling="triangle")
+    assert sites.shape == (6 * R * R, 3)
+    assert set(map(tuple, sites.tolist())) == set(map(tuple, T.triangle_hexagon_sites(R).tolist()))
+
+
+@pytest.mark.parametrize("faceted", [False, True])
+def test_triangle_stadiums_are_single_strips_of_n_distinct_triangles(faceted):
+    """A long segment gives one connected strip of exactly n distinct triangles, longer than
+    wide along a1 (gyration dimensions; each triangle has at most three neighbours)."""
+    n = 200
+    sites = T.stadium_sites(n, segment=30.0, faceted=faceted, tiling="triangle")
+    assert len(set(map(tuple, sites.tolist()))) == n
+    cluster = T.cluster(sites, tiling="triangle")
+    assert n - 1 <= cluster.n_bonds <= 3 * n // 2
+    width, length = T.gyration_dimensions(sites, "triangle")
+    assert length > 3 * width
+    positions = T.site_positions(sites, "triangle")
+    assert np.ptp(positions[:, 0]) > 3 * np.ptp(positions[:, 1])  # along a1
+
+
 def test_compact_faceted_aggregates_hold_the_most_bonds_any_n_sites_can():
     """Harary and Harborth (1976): n sites of the triangular lattice share at most
     3 n - ceil(sqrt(12 n - 3)) nearest-neighbour pairs. The compact faceted shape reaches it for

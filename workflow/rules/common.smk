@@ -119,6 +119,14 @@ def triangle_catalogue_file(ell, nu):
     return f"results/triangle/catalogue/ell{float(ell):g}_nu{float(nu):g}.npz"
 
 
+def triangle_finite_files():
+    """The finite-size prediction of each box of Fig. S6's Monte Carlo runs (the best single
+    aggregate of as many triangles, at the runs' nu)."""
+    m = TRIANGLE_MC
+    return [f"results/triangle/finite/n{int(n)}_nu{float(nu):g}.npz"
+            for n, nu in ((m["n"], m["top_nu"]), (m["dense_n"], m["bottom_nu"]))]
+
+
 def triangle_run_files():
     """Fig. S6d snapshots: the top row (sparse box) and the bottom row (dense box)."""
     m = TRIANGLE_MC

@@ -73,6 +73,7 @@ rule montecarlo_finite_aggregates:
         nu=lambda w: float(w.nu),
         # The box each particle number runs in (candidate ground states of that box).
         box=lambda w: {MC["n"]: MC["box"], MC["large_n"]: MC["large_box"], MC["dense_n"]: MC["dense_box"]}[int(w.n)],
+        tiling="hexagon",
         **pick(MC, "ell", "eps", "finite_Gamma_count", "finite_Gamma_max"),
     conda:
         "../envs/pyfrustrate.yaml"

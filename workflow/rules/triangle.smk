@@ -62,6 +62,26 @@ rule triangle_montecarlo_run:
         "../scripts/montecarlo_run.py"
 
 
+# Beyond the paper: the best single aggregate of as many triangles as each Monte Carlo box holds,
+# which Fig. S6's snapshots are measured against (Delta E), as Fig. 3b's are.
+rule triangle_finite_aggregates:
+    output:
+        "results/triangle/finite/n{n}_nu{nu}.npz",
+    params:
+        n=lambda w: int(w.n),
+        nu=lambda w: float(w.nu),
+        box=None,  # no box candidates on the triangle tiling
+        tiling="triangle",
+        **pick(TRIANGLE_MC, "ell", "eps"),
+        **pick(MC, "finite_Gamma_count", "finite_Gamma_max"),
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/triangle/finite_n{n}_nu{nu}.log",
+    script:
+        "../scripts/montecarlo_finite_aggregates.py"
+
+
 rule triangle_shapes:
     output:
         "results/triangle/shapes.npz",
@@ -84,6 +104,7 @@ rule figS6_triangle:
         continuum=rules.continuum_phase_diagram.output,
         catalogue=triangle_catalogue_file(TRIANGLE["ell"], TRIANGLE["drawing_nu"]),
         snapshots=triangle_run_files(),
+        finite=triangle_finite_files(),
     output:
         pdf=f"{FIGURES}/figS6_triangle.pdf",
         png=figure_png("figS6_triangle"),
