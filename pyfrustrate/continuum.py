@@ -48,19 +48,19 @@ import numpy as np
 from scipy.special import ive
 
 LINE_TENSION_PER_BINDING_ENERGY = 1.0  # hexagon tiling (line_tension)
-# What the triangle tiling changes (supplement, "Triangular particles"; derived in the README,
-# measured by tests/test_triangle.py): every lattice edge of each sheet carries two springs k
-# (one per particle on either side) where the hexagon's carries one, and each particle its own
-# coupling springs over half the area, so all three sheet moduli mu, lam, kappa_c double; nu
-# and ell are unchanged. A flat edge along a1 breaks one bond per unit length and makes two
-# edges: gamma = g / 2.
+# What the triangle tiling changes (supplement, "Triangular particles"; derived in
+# docs/topics/triangle.md, measured by tests/test_triangle.py): every lattice edge of each sheet
+# carries two springs k (one per particle on either side) where the hexagon's carries one, and each
+# particle its own coupling springs over half the area, so all three sheet moduli mu, lam, kappa_c
+# double; nu and ell are unchanged. A flat edge along a1 breaks one bond per unit length and makes
+# two edges: gamma = g / 2.
 SHEET_MODULI_FACTOR = {"hexagon": 1.0, "triangle": 2.0}
 LINE_TENSION_PER_BINDING = {"hexagon": LINE_TENSION_PER_BINDING_ENERGY, "triangle": 0.5}
 # The binding convention (how Gamma maps to g), an explicit choice. "measured" is gamma = g, the
-# edge energy the discrete hexagon model has (README, results/ansatz/line_tension.json; every
-# figure uses it). "supplement" is the printed gamma = 4 g / sqrt(3): the same Gamma then means a
-# binding energy sqrt(3)/4 = 0.433 times ours, and the paper's Gamma = 0.5 is our 0.217. Hexagons
-# only: the supplement gives no convention for triangles.
+# edge energy the discrete hexagon model has (docs/topics/binding.md,
+# results/ansatz/line_tension.json; every figure uses it). "supplement" is the printed gamma = 4 g /
+# sqrt(3): the same Gamma then means a binding energy sqrt(3)/4 = 0.433 times ours, and the paper's
+# Gamma = 0.5 is our 0.217. Hexagons only: the supplement gives no convention for triangles.
 BINDING_CONVENTIONS = ("measured", "supplement")
 _SUPPLEMENT_LINE_TENSION_PER_BINDING = 4.0 / math.sqrt(3.0)
 
