@@ -10,7 +10,7 @@ Three ways to look at one matrix, from cheap to costly:
 
 ``pseudo_moduli``
     the supplement's single-particle proxies (kappa_c, K, nu) and the predictors ``ell_pred`` (via
-    main text Eq. 11) and ``ell_eigen``.
+    main text Eq. 10) and ``ell_eigen``.
 ``boundary_layer_length``
     the decay length of the slowest collective mode of a half-plane in linear response, exactly,
     from the layer-to-layer transfer problem (a 16 x 16 eigenvalue problem; ``transfer_roots``).
