@@ -33,7 +33,7 @@ import numpy as np
 from . import _kernel
 from . import _checks
 from ._checks import integer
-from .topology import Topology, tiling_facts
+from .topology import Topology
 
 METHODS = ("auto", "lbfgs", "linear", "newton")
 #: What ``method="auto"`` runs: Newton was the fastest exact method on every scene measured
@@ -124,6 +124,11 @@ class Relaxation:
         the size of the coordinates).
     newton_steps, factorizations, lbfgs_evaluations : int
         Newton steps taken, exact Hessians factorised, evaluations spent in L-BFGS.
+    factor : RelaxedCluster or None
+        With ``keep_factor=True`` or a ``parent`` (Newton): this aggregate with its Hessian
+        factor, to pass as ``parent`` when relaxing an aggregate a few particles away.
+    from_parent : bool
+        The parent's factor was modified and used (else the relaxation was made fresh).
     """
 
     energy: float
@@ -140,6 +145,8 @@ class Relaxation:
     newton_steps: int = 0
     factorizations: int = 0
     lbfgs_evaluations: int = 0
+    factor: object = None
+    from_parent: bool = False
 
     @property
     def energy_per_particle(self) -> float:
@@ -160,7 +167,8 @@ class Relaxation:
 
 
 def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5, x0=None,
-          max_iter: int = 500_000, memory: int = 10, cache: StiffnessCache | None = None) -> Relaxation:
+          max_iter: int = 500_000, memory: int = 10, cache: StiffnessCache | None = None,
+          parent=None, keep_factor: bool = False) -> Relaxation:
     """Minimise the deformation energy of ``topology``, built of ``particle``, at fixed topology.
 
     The inner minimisation of main text Eq. 7. The result is the **deformation energy only**: the
@@ -194,6 +202,13 @@ def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5,
     cache : StiffnessCache, optional
         Reuse the symbolic analysis and reference factorisation of earlier relaxations of the
         same topology (one is made and dropped otherwise).
+    parent : RelaxedCluster, optional
+        ``Relaxation.factor`` of an aggregate that differs from ``topology`` by a few particles
+        (same tiling, sites matched): Newton starts from its relaxed state and modifies its
+        factor (rows added and deleted, low-rank updates) instead of making one; the energy is
+        exact to ``tol`` as always (kernel/parent_factor.hpp). Periodic cells relax fresh.
+    keep_factor : bool, optional
+        Return this aggregate's factor as ``Relaxation.factor`` (Newton).
 
     Returns
     -------
@@ -240,36 +255,30 @@ def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5,
             raise ValueError(f"cache must be a StiffnessCache, got {type(cache).__name__}")
         if cache.topology is not topology:
             raise ValueError(f"cache: it was made for {cache.topology.label}, not for {topology.label}")
-    parts = _connected_parts(topology)
-    if method == "auto":
-        # The linear and Newton solves pin one rigid motion per topology: a topology in several
-        # pieces (or hinged at single corners) keeps the others' free, and its stiffness is
-        # singular. L-BFGS needs no pins.
-        method = "lbfgs" if x0 is not None or parts > 1 else AUTO_METHOD
-    elif method in ("linear", "newton") and parts > 1:
-        raise ValueError(f"topology: {topology.label} falls into {parts} pieces joined by no side, which method={method!r} "
-                         "cannot pin (each moves rigidly on its own): use method='lbfgs' or 'auto', or relax each piece")
+    if method == "newton" and x0 is not None:
+        raise ValueError("x0: method='newton' always starts from the linear solution")
+    if parent is not None and not isinstance(parent, _kernel.RelaxedCluster):
+        raise TypeError(f"parent must be the .factor of an earlier Relaxation (relax(..., keep_factor=True)), "
+                        f"got {type(parent).__name__}")
     model = particle._kernel_model
-    kcache = cache._kernel if cache is not None else None
-    force_tol = tol * particle.force_scale
-    if method == "linear":
-        out = _kernel.relax_linear(model, topology.kernel, kcache)
-    elif method == "newton":
-        if x0 is not None:
-            raise ValueError("x0: method='newton' always starts from the linear solution")
-        out = _kernel.relax_newton(model, topology.kernel, force_tol, int(max_iter), kcache)
-    else:
-        if x0 is None:
-            start = topology.reference_state()
-        elif isinstance(x0, str):
-            if x0 != "linear":
-                raise ValueError(f"x0 must be None, 'linear' or an array, got {x0!r}")
-            start = np.asarray(_kernel.relax_linear(model, topology.kernel, kcache)["x"])
-        else:
-            start = np.asarray(x0, dtype=float).ravel()
-            if start.shape != topology.reference_state().shape:
-                raise ValueError(f"x0 has {start.size} entries, the topology needs {topology.reference_state().size}")
-        out = _kernel.relax_lbfgs(model, topology.kernel, start, force_tol, int(max_iter), int(memory), kcache)
+    start, from_linear = None, False
+    if isinstance(x0, str):
+        if x0 != "linear":
+            raise ValueError(f"x0 must be None, 'linear' or an array, got {x0!r}")
+        from_linear = True
+    elif x0 is not None:
+        state = np.asarray(x0, dtype=float).ravel()
+        if state.shape != topology.reference_state().shape:
+            raise ValueError(f"x0 has {state.size} entries, the topology needs {topology.reference_state().size}")
+        if not np.all(np.isfinite(state)):
+            raise ValueError("x0 contains non-finite values")
+        start = state - topology.reference_state()
+    # The kernel's one policy (kernel/relax_policy.hpp) picks the method for "auto", its start and
+    # fallbacks; a parent's factor is modified instead of a new one made.
+    out = _kernel.relax(model, topology.kernel, method, tol * particle.force_scale, int(max_iter), int(memory),
+                        start=start, lbfgs_from_linear=from_linear, cache=cache._kernel if cache is not None else None,
+                        parent=parent, keep_factor=bool(keep_factor or parent is not None))
+    method = out["method"]
     if not np.isfinite(out["energy"]):
         raise RuntimeError(f"relax: the energy became non-finite ({out['status']})")
     if out["energy"] < -10 * topology.n_particles * particle.force_scale * particle.eps:
@@ -287,30 +296,8 @@ def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5,
     return Relaxation(float(out["energy"]), topology.n_particles, topology.n_bonds, np.asarray(out["x"]),
                       bool(out["converged"]), int(out["iterations"]), float(out["gradient_norm"]), out["status"],
                       method, topology.n_corners, np.asarray(out["displacement"]), int(out["newton_steps"]),
-                      int(out["factorizations"]), int(out["lbfgs_evaluations"]))
-
-
-def _connected_parts(topology: Topology) -> int:
-    """How many rigidly joined pieces a finite topology's particles form: particles are joined
-    when they share a side, the corners of both its ends (a triangle's vertex carries two, its
-    yellow and red nodes). Sharing one vertex only is a hinge (triangles touching at a tip),
-    free to turn. Periodic cells count as one piece: there images of one corner share an index
-    (the triangle bulk has two corners in all), and builders check their connectivity."""
-    if topology.periodicity != "none":
-        return 1
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    corners = np.asarray(topology.kernel.corners)
-    n_particles, per_particle = corners.shape
-    side = 2 * per_particle // tiling_facts(topology.tiling)["coordination"]  # corners at a side's two ends
-    incidence = coo_matrix((np.ones(corners.size), (np.repeat(np.arange(n_particles), per_particle), corners.ravel())),
-                           shape=(n_particles, topology.n_corners)).tocsr()
-    shared = (incidence @ incidence.T).tocoo()
-    joined = shared.data >= side
-    sides = coo_matrix((np.ones(int(joined.sum())), (shared.row[joined], shared.col[joined])),
-                       shape=(n_particles, n_particles))
-    return int(connected_components(sides, directed=False)[0])
+                      int(out["factorizations"]), int(out["lbfgs_evaluations"]), out["factor"],
+                      bool(out["from_parent"]))
 
 
 def _check_scene(particle, topology) -> None:
