@@ -17,10 +17,10 @@ eps in {0.005, 0.01, 0.02}. Methods:
 Reference: Newton at tol 1e-12 (converged to round-off on every configuration here; a lower
 energy from any converged run of the sweep would replace it, flagged).
 
-Runs are capped at ``--max-iter`` evaluations (default 5000). A run whose energy is negative or
-not finite is reported as DIVERGED: for nu < 1/3 the areal stiffness is negative and the energy
-unbounded below, and L-BFGS can run away (see README). Timings: min over repeats (diverged runs
-are timed once).
+Runs are capped at ``--max-iter`` evaluations (default 5000). A run whose energy is negative or not
+finite is reported as DIVERGED: for nu < 1/3 the areal stiffness is negative and the energy
+unbounded below, and L-BFGS can run away (docs/topics/relaxation.md). Timings: min over repeats
+(diverged runs are timed once).
 
     python benchmarks/bench_tradeoff.py [--quick] [--repeats 3] [--csv PATH]
 """

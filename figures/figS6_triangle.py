@@ -1,5 +1,5 @@
 """Fig. S6: triangular particles (supplement, "Triangular particles"; the design of panel (a) is
-our reconstruction, README). (a) The particle: yellow and red node triangles (rest sides 1 +- eps)
+our reconstruction, docs/topics/triangle.md). (a) The particle: yellow and red node triangles (rest sides 1 +- eps)
 and six coupling springs; a bound pair shares the nodes of its common edge. (b) Relaxed
 aggregates, particles coloured by deformation energy. (c) In the bulk the sides of the yellow and
 red triangles must match. (d) Ansatz diagram at ell = 2.5 with the continuum boundaries and Monte

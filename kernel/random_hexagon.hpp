@@ -2,10 +2,10 @@
 // hexagon at rest and the same binding rules as HexagonModel, with deformation energy an
 // arbitrary positive semi-definite quadratic form of nine corner distances,
 //   e_d = 1/2 (d - d0)^T M (d - d0).
-// d1..d3 are the yellow triangle's sides, d4..d6 the red triangle's, d7..d9 three alternate
-// sides of the hexagon, one every 120 degrees (the reading under which the supplement's
-// pseudo-modulus vectors make sense; README, corrections to the printed paper). Each triple is listed in the order a
-// rotation by 120 degrees permutes it (slot s -> s + 2), the permutation of supplement S4.
+// d1..d3 are the yellow triangle's sides, d4..d6 the red triangle's, d7..d9 three alternate sides
+// of the hexagon, one every 120 degrees (the reading under which the supplement's pseudo-modulus
+// vectors make sense; docs/topics/corrections.md). Each triple is listed in the order a rotation by
+// 120 degrees permutes it (slot s -> s + 2), the permutation of supplement S4.
 // Nine distances fix the twelve corner coordinates up to a rigid motion.
 #pragma once
 

@@ -2,7 +2,7 @@
 // triangles of hard springs k, six softer coupling springs kc, the same continuum theory as the
 // hexagon, a bound pair that already costs elastic energy, and bulk edges where the two
 // triangles must match; its panel (a), the design, is lost. This is our reconstruction, which
-// meets every one of those statements (README, "Triangular particles"):
+// meets every one of those statements (docs/topics/triangle.md):
 //
 // every vertex of the particle carries a yellow node (slots 0-2 at vertices v0, v1, v2) and a
 // red node (slots 3-5); the yellow triangle has springs k of rest length 1 + eps, the red one

@@ -214,7 +214,7 @@ class CatalogueEnergies:
 
         Returns
         -------
-        ndarray, shape (n_candidates, *shape(g))
+        ndarray, shape ``(n_candidates, *np.shape(g))``
         """
         g = np.asarray(g, float)
         return self.deformation.reshape((-1,) + (1,) * g.ndim) - np.multiply.outer(self.bonds, g)
@@ -418,7 +418,7 @@ class EnergiesLinearInG:
 
         Returns
         -------
-        ndarray, shape (n, *shape(g))
+        ndarray, shape ``(n, *np.shape(g))``
         """
         g = np.asarray(g, float)
         return self.deformation.reshape((-1,) + (1,) * g.ndim) - np.multiply.outer(self.bonds, g)

@@ -5,19 +5,19 @@ Every definition looks at a half-plane (or a deep strip) whose edge runs along a
 (``fiber(.., cut=0)``), its particles' displacements uniform along the edge; rows are
 ``ROW_SPACING = sqrt(3)/2`` apart.
 
-``"slowest"``       (a) the slowest bulk mode of the half-plane, exactly, from the transfer
-                    problem (``random_particles.boundary_layer_lengths``). Every random particle
-                    has exactly two decaying modes ``z_1, z_2`` (``decay_modes``); when they are
-                    a complex pair they share one length.
-``"excited"``       (b) the slowest of those two modes that the edge actually drives: a wide
-                    strip's linear response near each edge is split exactly into the two modes
-                    (``edge_mode_shares``); a mode counts when its share of the edge
-                    displacement reaches ``min_share``.
-``"finite_depth"``  (c) the paper's protocol read literally (Fig. 5b): a slab of ``depth``
-                    rows with two free edges, relaxed nonlinearly at finite ``eps`` (Newton),
-                    a log-linear fit of the excess energy per particle against the distance from
-                    one edge, relative to the slab's central row (what a simulation sees as "the
-                    bulk") or to the exact infinite bulk.
+``"slowest"``
+    (a) the slowest bulk mode of the half-plane, exactly, from the transfer problem
+    (``random_particles.boundary_layer_lengths``). Every random particle has exactly two decaying
+    modes ``z_1, z_2`` (``decay_modes``); when they are a complex pair they share one length.
+``"excited"``
+    (b) the slowest of those two modes that the edge actually drives: a wide strip's linear response
+    near each edge is split exactly into the two modes (``edge_mode_shares``); a mode counts when
+    its share of the edge displacement reaches ``min_share``.
+``"finite_depth"``
+    (c) the paper's protocol read literally (Fig. 5b): a slab of ``depth`` rows with two free edges,
+    relaxed nonlinearly at finite ``eps`` (Newton), a log-linear fit of the excess energy per
+    particle against the distance from one edge, relative to the slab's central row (what a
+    simulation sees as "the bulk") or to the exact infinite bulk.
 
 ``compare_definitions`` evaluates all of them on one sample; ``summarise`` turns that into the
 numbers the paper states (P(ell >= 1.5), the median ell_pred/ell, nu per ell group).

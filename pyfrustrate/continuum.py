@@ -3,7 +3,7 @@
 The yellow and red triangle lattices are isotropic sheets (shear modulus ``mu``, Poisson ratio
 ``nu``) whose rest states are dilated/contracted by ``eps`` with respect to the bulk reference
 state, coupled by ``kappa_c/2 (u_up - u_down)^2`` per unit area (main text Eq. 4). Lengths are
-in units of the boundary-layer length ``ell`` (Eq. 11), energies per unit reference area in
+in units of the boundary-layer length ``ell`` (Eq. 10), energies per unit reference area in
 units of ``e_bulk`` (Eq. 8), and ``Gamma = 2 gamma/((1 + nu) ell e_bulk)`` is the dimensionless
 line tension. In every aggregate ``u_down = -u_up``.
 
@@ -48,19 +48,19 @@ import numpy as np
 from scipy.special import ive
 
 LINE_TENSION_PER_BINDING_ENERGY = 1.0  # hexagon tiling (line_tension)
-# What the triangle tiling changes (supplement, "Triangular particles"; derived in the README,
-# measured by tests/test_triangle.py): every lattice edge of each sheet carries two springs k
-# (one per particle on either side) where the hexagon's carries one, and each particle its own
-# coupling springs over half the area, so all three sheet moduli mu, lam, kappa_c double; nu
-# and ell are unchanged. A flat edge along a1 breaks one bond per unit length and makes two
-# edges: gamma = g / 2.
+# What the triangle tiling changes (supplement, "Triangular particles"; derived in
+# docs/topics/triangle.md, measured by tests/test_triangle.py): every lattice edge of each sheet
+# carries two springs k (one per particle on either side) where the hexagon's carries one, and each
+# particle its own coupling springs over half the area, so all three sheet moduli mu, lam, kappa_c
+# double; nu and ell are unchanged. A flat edge along a1 breaks one bond per unit length and makes
+# two edges: gamma = g / 2.
 SHEET_MODULI_FACTOR = {"hexagon": 1.0, "triangle": 2.0}
 LINE_TENSION_PER_BINDING = {"hexagon": LINE_TENSION_PER_BINDING_ENERGY, "triangle": 0.5}
 # The binding convention (how Gamma maps to g), an explicit choice. "measured" is gamma = g, the
-# edge energy the discrete hexagon model has (README, results/ansatz/line_tension.json; every
-# figure uses it). "supplement" is the printed gamma = 4 g / sqrt(3): the same Gamma then means a
-# binding energy sqrt(3)/4 = 0.433 times ours, and the paper's Gamma = 0.5 is our 0.217. Hexagons
-# only: the supplement gives no convention for triangles.
+# edge energy the discrete hexagon model has (docs/topics/binding.md,
+# results/ansatz/line_tension.json; every figure uses it). "supplement" is the printed gamma = 4 g /
+# sqrt(3): the same Gamma then means a binding energy sqrt(3)/4 = 0.433 times ours, and the paper's
+# Gamma = 0.5 is our 0.217. Hexagons only: the supplement gives no convention for triangles.
 BINDING_CONVENTIONS = ("measured", "supplement")
 _SUPPLEMENT_LINE_TENSION_PER_BINDING = 4.0 / math.sqrt(3.0)
 
@@ -125,7 +125,7 @@ class ContinuumParameters:
     gamma : ndarray
         Line tension (energy per unit length of edge), ``line_tension(g)``.
     ell : ndarray
-        Boundary-layer length (Eq. 11), in lattice spacings.
+        Boundary-layer length (Eq. 10), in lattice spacings.
     e_bulk : ndarray
         Bulk deformation energy per unit reference area (Eq. 8).
     Gamma : ndarray
@@ -235,7 +235,7 @@ def mapping(k, kc, k_area, g, eps, tiling="hexagon", convention="measured"):
     ``mu = sqrt(3) k/4``, ``nu = (sqrt(3) k + 2 k_area)/(3 sqrt(3) k + 2 k_area)``,
     ``lam = 2 mu nu/(1 - nu) = (sqrt(3) k + 2 k_area)/4`` (misprinted ``mu nu/(1 - nu)``),
     ``kappa_c = 2 sqrt(3) kc``, ``gamma = line_tension(g)``,
-    ``ell = sqrt((lam + 2 mu)/(2 kappa_c)) = sqrt(k/(8 (1 - nu) kc))`` (Eq. 11),
+    ``ell = sqrt((lam + 2 mu)/(2 kappa_c)) = sqrt(k/(8 (1 - nu) kc))`` (Eq. 10),
     ``e_bulk = 4 mu eps^2 (1 + nu)/(1 - nu) = 2 eps^2 (sqrt(3) k + k_area)`` (Eq. 8; times the
     area sqrt(3)/2 per particle: ``(3 k + sqrt(3) k_area) eps^2``),
     ``Gamma = 2 gamma/((1 + nu) ell e_bulk)``.
@@ -434,12 +434,12 @@ def _bracketed_root(func, lo, hi, log=True):
     return np.exp(x) if log else x
 
 
-# Fibre: infinite strip of width W = w ell (Eqs. 9-10)
+# Fibre: infinite strip of width W = w ell (Eqs. 9-11)
 
 def fiber_energy(w, nu, Gamma):
     """Mean energy per unit area of a fibre of width ``w = W/ell``, in units of ``e_bulk``.
 
-    Main text Eq. 10 (correct as printed): ``1 - (1 + nu) tanh(w/2)/w + (1 + nu) Gamma/w``;
+    Main text Eq. 11 (correct as printed): ``1 - (1 + nu) tanh(w/2)/w + (1 + nu) Gamma/w``;
     ``w = inf`` is the bulk (1). Evaluated as the sum of positive terms
     ``(1 - nu)/2 + (1 + nu)(y - tanh y)/(2 y) + (1 + nu) Gamma/w``, ``y = w/2``, so narrow
     fibres keep full relative precision (the energy -> 0 as nu -> 1).
@@ -562,7 +562,7 @@ def _fiber_optimum(G):
 
 
 def optimal_width(nu, Gamma):
-    """Width ``W*/ell`` minimising the fibre energy per unit area (Eq. 10).
+    """Width ``W*/ell`` minimising the fibre energy per unit area (Eq. 11).
 
     Stationarity: ``tanh(w/2) - (w/2) sech^2(w/2) = Gamma``, whose left side rises from 0 to 1,
     so ``W*`` is finite iff ``Gamma < 1`` (the fibre then beats the bulk) and ``inf`` otherwise;
@@ -834,7 +834,7 @@ def optimal_radius(nu, Gamma):
 def phase(nu, Gamma):
     """The phase of lowest energy per unit area (Fig. 3a).
 
-    Among the optimal fibre (Eq. 10), the optimal disk (corrected Eq. 13) and the bulk (1). Ties
+    Among the optimal fibre (Eq. 11), the optimal disk (corrected Eq. 13) and the bulk (1). Ties
     go to the bulk, then to the fibre (e.g. ``nu = 1, Gamma = 0``, where both reach 0).
 
     Parameters

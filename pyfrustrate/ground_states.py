@@ -5,20 +5,22 @@ prediction as the real ground state of the box).
 Families, each a set of real configurations of the box (their sites are returned and checked to
 fit without touching their periodic images):
 
-``single``          one aggregate of all ``n`` particles, compact to elongated, round and
-                    faceted (``ansatz.finite_aggregates``: ``topology.stadium_sites``);
-``wrapping_fiber``  full rows along ``a1`` that wrap the box (a straight fibre periodic with the
-                    box, ``n // box`` rows) plus the remaining particles as a partial row on one
-                    edge; with ``n`` near ``box**2`` it is a slab;
-``aggregates{m}``   ``m`` separate aggregates of ``n / m`` particles each (the remainder in the
-                    last), all of the same shape index; ``m`` runs over ``aggregate_counts(n)``:
-                    every count to 16, then counts 1.25x apart while the aggregates keep at least
-                    7 particles, since at low line tension the best aggregate is small and a large
-                    box holds many of them (800 particles at ell = 5, nu = 0.4, Gamma = 0.2: seven
-                    aggregates; the best of at most four lay 2-12 bulk energies above where
-                    annealing runs ended);
-``gas``             every particle alone (energy 0), when the box can hold ``n`` particles none
-                    of which touch.
+``single``
+    one aggregate of all ``n`` particles, compact to elongated, round and faceted
+    (``ansatz.finite_aggregates``: ``topology.stadium_sites``);
+``wrapping_fiber``
+    full rows along ``a1`` that wrap the box (a straight fibre periodic with the box, ``n // box``
+    rows) plus the remaining particles as a partial row on one edge; with ``n`` near ``box**2`` it
+    is a slab;
+``aggregates{m}``
+    ``m`` separate aggregates of ``n / m`` particles each (the remainder in the last), all of the
+    same shape index; ``m`` runs over ``aggregate_counts(n)``: every count to 16, then counts 1.25x
+    apart while the aggregates keep at least 7 particles, since at low line tension the best
+    aggregate is small and a large box holds many of them (800 particles at ell = 5, nu = 0.4, Gamma
+    = 0.2: seven aggregates; the best of at most four lay 2-12 bulk energies above where annealing
+    runs ended);
+``gas``
+    every particle alone (energy 0), when the box can hold ``n`` particles none of which touch.
 
 Each candidate's energy is ``deformation - g * bonds`` with its relaxed deformation energy, so the
 best at a binding energy ``g`` is the lowest of linear functions of ``g``.

@@ -1,8 +1,9 @@
 """Particle models: the parameters of one particle, handed to the kernel's stateless evaluators.
 
-``Hexagon`` is the particle of the paper (main text Fig. 2a), ``Triangle`` the triangular one of
-the supplement (Fig. S6, our reconstruction of its lost design: README). Their continuum
-counterparts are given by the mapping of supplement S1 (``continuum.mapping``, per tiling).
+``Hexagon`` is the particle of the paper (main text Fig. 2a), ``Triangle`` the triangular one of the
+supplement (Fig. S6, our reconstruction of its lost design: docs/topics/triangle.md). Their
+continuum counterparts are given by the mapping of supplement S1 (``continuum.mapping``, per
+tiling).
 
 ``Particle`` is the contract every particle model meets (the kernel's side is written in
 ``kernel/network.hpp``); ``tests/test_particle_contract.py`` checks it for every model, and a new

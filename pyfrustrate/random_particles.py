@@ -8,14 +8,15 @@ in the order a 120-degree rotation permutes it. Its energy is ``(d - d0)^T M (d 
 
 Three ways to look at one matrix, from cheap to costly:
 
-``pseudo_moduli``            the supplement's single-particle proxies (kappa_c, K, nu) and the
-                             predictors ``ell_pred`` (via main text Eq. 11) and ``ell_eigen``.
-``boundary_layer_length``    the decay length of the slowest collective mode of a half-plane in
-                             linear response, exactly, from the layer-to-layer transfer problem
-                             (a 16 x 16 eigenvalue problem; ``transfer_roots``).
+``pseudo_moduli``
+    the supplement's single-particle proxies (kappa_c, K, nu) and the predictors ``ell_pred`` (via
+    main text Eq. 10) and ``ell_eigen``.
+``boundary_layer_length``
+    the decay length of the slowest collective mode of a half-plane in linear response, exactly,
+    from the layer-to-layer transfer problem (a 16 x 16 eigenvalue problem; ``transfer_roots``).
 ``fitted_boundary_layer_length``
-                             the paper's route (Fig. 5b): relax a wide strip and fit the decay
-                             of the excess energy per particle away from an edge.
+    the paper's route (Fig. 5b): relax a wide strip and fit the decay of the excess energy per
+    particle away from an edge.
 """
 from __future__ import annotations
 
@@ -57,7 +58,7 @@ MATRIX_BYTES = 9 * 9 * 8  # one elasticity matrix in float64
 
 
 def elasticity_matrices(n: int, seed: int, start: int = 0) -> np.ndarray:
-    """Random elasticity matrices number ``start .. start + n - 1`` of the sample ``seed``.
+    """Random elasticity matrices number ``start`` to ``start + n - 1`` of the sample ``seed``.
 
     By the supplement's procedure: ``M0`` with i.i.d. N(0, 1) entries,
     ``M1 = (M0 + W M0 W^-1 + W^2 M0 W^-2) / 3`` with ``W`` the block-diagonal 3-cycle,
@@ -707,7 +708,7 @@ SAMPLE_FIELDS = ("index", "ell", "ell_pred", "ell_eigen", "nu", "nu_up", "nu_dow
 def sample_properties(n: int, seed: int, start: int = 0) -> dict:
     """Boundary-layer lengths, predictors and Poisson ratios of a sample of random particles.
 
-    Of the random particles ``start .. start + n - 1`` of sample ``seed``: exact lengths
+    Of the random particles ``start`` to ``start + n - 1`` of sample ``seed``: exact lengths
     (``boundary_layer_lengths``) and the ``pseudo_moduli`` predictors.
 
     Parameters

@@ -2,20 +2,23 @@
 
 Methods, a speed/accuracy knob:
 
-``"auto"``    (default) the fastest exact method for the scene, chosen by measurement: ``"newton"``
-              (see ``AUTO_METHOD`` and benchmarks/README.md).
-``"newton"``  the nonlinear minimum to ``tol``, down to round-off: from the linear response,
-              quasi-Newton steps on the factorised eps = 0 stiffness while they are cheaper,
-              then exact-Hessian steps (the period map's curvature included; damped where the
-              Hessian is indefinite), each with a line search that guarantees descent; strongly
-              nonlinear scenes go to L-BFGS and back. CHOLMOD's supernodal Cholesky; its
-              symbolic analysis is made once per topology (``StiffnessCache``).
-``"lbfgs"``   NLopt's L-BFGS on the full nonlinear energy, to a gradient tolerance; when NLopt
-              stops short of it (ftol, xtol, roundoff) Newton steps finish the job, and the
-              result's ``status`` says which did the work.
-``"linear"``  one sparse Cholesky solve of the quadratic expansion about the bulk reference, with
-              the stiffness of the particles at eps = 0: exact as eps -> 0, error O(eps^2)
-              relative in the energy, and cheaper still.
+``"auto"``
+    (default) the fastest exact method for the scene, chosen by measurement: ``"newton"`` (see
+    ``AUTO_METHOD`` and benchmarks/README.md).
+``"newton"``
+    the nonlinear minimum to ``tol``, down to round-off: from the linear response, quasi-Newton
+    steps on the factorised eps = 0 stiffness while they are cheaper, then exact-Hessian steps (the
+    period map's curvature included; damped where the Hessian is indefinite), each with a line
+    search that guarantees descent; strongly nonlinear scenes go to L-BFGS and back. CHOLMOD's
+    supernodal Cholesky; its symbolic analysis is made once per topology (``StiffnessCache``).
+``"lbfgs"``
+    NLopt's L-BFGS on the full nonlinear energy, to a gradient tolerance; when NLopt stops short of
+    it (ftol, xtol, roundoff) Newton steps finish the job, and the result's ``status`` says which
+    did the work.
+``"linear"``
+    one sparse Cholesky solve of the quadratic expansion about the bulk reference, with the
+    stiffness of the particles at eps = 0: exact as eps -> 0, error O(eps^2) relative in the energy,
+    and cheaper still.
 
 All work on the displacement from the bulk reference (``Relaxation.displacement``): a particle
 is evaluated in its own frame, so forces keep their digits however large the aggregate.
@@ -166,7 +169,7 @@ class Relaxation:
 def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5, x0=None,
           max_iter: int = 500_000, memory: int = 10, cache: StiffnessCache | None = None,
           parent=None, keep_factor: bool = False) -> Relaxation:
-    """Minimise the deformation energy of ``topology`` made of ``particle`` s at fixed topology.
+    """Minimise the deformation energy of ``topology``, built of ``particle``, at fixed topology.
 
     The inner minimisation of main text Eq. 7. The result is the **deformation energy only**: the
     binding is not included. To compare with the continuum theory, take the continuum at

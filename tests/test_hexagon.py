@@ -13,7 +13,7 @@ References used here, none of them a copy of the code under test:
 * the continuum theory (main text Eqs. 8-13 as corrected in pyfrustrate.continuum, itself tested
   against direct minimisations of Eq. 4 in test_continuum.py) for fibres and disks, whose
   agreement with the discrete model must improve as ell grows;
-* the boundary-layer length ell of the mapping (Eq. 11), fitted on wide fibres.
+* the boundary-layer length ell of the mapping (Eq. 10), fitted on wide fibres.
 
 Units: lattice spacing 1; energies per particle over ``particle.bulk_energy_per_particle``.
 """

@@ -4,7 +4,7 @@ Independent references: finite differences; exact symmetries (rigid motions, the
 three-fold symmetry, which ties the kernel's distance order to the supplement's Omega); the
 simple particle (``Hexagon``), whose linearised energy is a quadratic form in the distances and
 must give back the same linear response, the continuum moduli of the mapping (supplement S1)
-and the continuum boundary-layer length (Eq. 11); a direct L-BFGS minimisation of the bulk;
+and the continuum boundary-layer length (Eq. 10); a direct L-BFGS minimisation of the bulk;
 two algorithms for the transfer roots (companion pencil, scalar palindromic polynomial); the
 paper's own protocol for ell (a fit of the edge energy profile of a relaxed strip).
 """

@@ -1,6 +1,6 @@
 """The triangular particle (supplement, Fig. S6; ``kernel/triangle.hpp``, our reconstruction of
 its lost design) against independent results: the bulk's leading-order energy, a bound pair's
-closed form to linear order (derived by hand, README "Triangular particles"), bond counting for
+closed form to linear order (derived by hand, docs/topics/triangle.md), bond counting for
 the line tension, the continuum fibre and disk energies as ell grows, the sinh profile of the
 boundary layer, and straight fibres. The generic checks (gradients, Hessians, symmetry, rigid
 motions) live in ``test_particle_contract.py``.
@@ -30,7 +30,7 @@ def test_bulk_energy_per_particle_is_the_hexagons(k, kc, k_area):
 
 def pair_energy_linear(k, kc, k_area):
     """E_pair / eps^2 of a bound pair (up and down triangle sharing an edge) to leading order,
-    derived by hand (README, "Triangular particles"): the mismatch is symmetric under the pair's
+    derived by hand (docs/topics/triangle.md): the mismatch is symmetric under the pair's
     two mirrors, so only the symmetric displacements respond (shared nodes along the edge, apexes
     along the pair's axis, yellow and red apart); minimising the quadratic energy over them gives
     1/f = 1/kc + (9 sqrt3 k + 8 k_area) / (6 k (sqrt3 k + k_area)): the couplings in series with
@@ -182,9 +182,9 @@ def test_supplement_statements_on_the_ansatz_diagram(triangle_catalogues):
 def test_auxetic_particles_approach_the_continuum(nu, make, tiling):
     """Negative Poisson ratios (k_area below -sqrt(3) k / 2): discrete aggregates of both
     particles approach the continuum energies as ell grows, as at positive nu. Measured gain
-    deviations at ell = 2.5, 5, 10, 20 (nu = -0.5): hexagon cut-1 fibre 32, 16, 8, 4 %, disk
-    3.6, 1.1, 0.4, 0.2 %; triangle fibre 0.65, 0.17, 0.05, 0.02 %, disk 0.15-0.13 % (its shape
-    term). Closer to nu = -1 the lattice departs from the continuum (README)."""
+    deviations at ell = 2.5, 5, 10, 20 (nu = -0.5): hexagon cut-1 fibre 32, 16, 8, 4 %, disk 3.6,
+    1.1, 0.4, 0.2 %; triangle fibre 0.65, 0.17, 0.05, 0.02 %, disk 0.15-0.13 % (its shape term).
+    Closer to nu = -1 the lattice departs from the continuum (docs/topics/negative_poisson.md)."""
     deviations = []
     for ell in (2.5, 10.0):
         particle = pf.particles.particle_class(tiling).from_continuum(ell, nu, eps=EPS)
