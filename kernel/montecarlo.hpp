@@ -255,6 +255,7 @@ MonteCarlo<Model>::MonteCarlo(const Model& model, double g, int L, int n, std::u
     : model_(model), g_(g), box_(tiling_of(Model::kTiling), L), options_(options), rng_(seed),
       symmetries_(pyfrustrate::shape_symmetries(tiling_of(Model::kTiling), Model::kPointGroup)) {
     cache_.limit = options.cache_limit;
+    if (L < 2) throw std::invalid_argument("box must be at least 2, got " + std::to_string(L));
     if (!(g >= 0) || !std::isfinite(g)) throw std::invalid_argument("g must be non-negative and finite, got " + std::to_string(g));
     if (n < 1) throw std::invalid_argument("n must be at least 1, got " + std::to_string(n));
     if (n >= box_.n_sites())

@@ -12,8 +12,8 @@ toy model), ``anneal`` (Monte Carlo of topologies), ``random_particles`` and ``R
 from . import chain, continuum, random_particles, topology
 from .particles import Hexagon, Particle, Triangle
 from .relaxation import ConvergenceWarning, Relaxation, StiffnessCache, relax
-from .montecarlo import AnnealResult, anneal
-from .replica_exchange import ReplicaExchangeResult, replica_exchange
+from . import montecarlo
+from .montecarlo import AnnealResult, ReplicaExchangeResult, anneal, replica_exchange
 from .random_particles import RandomHexagon
 
 __version__ = "0.1.0"

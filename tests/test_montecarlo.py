@@ -445,9 +445,10 @@ def test_sampling_matches_boltzmann_weights_long(delayed):
 # The Python API
 # --------------------------------------------------------------------------------------------
 
-def small_anneal(particle, g, **kw):
-    kw = dict(dict(box=12, n=24, steps=24 * 150, seed=3, progress=False), **kw)
-    return pyfrustrate.anneal(particle, g, **kw)
+def small_anneal(particle, g=None, **kw):
+    """A short anneal with L-BFGS energies (exactly resumable: no path-dependent warm starts)."""
+    kw = dict(dict(box=12, n=24, steps=24 * 150, seed=3, progress=False, method="lbfgs"), **kw)
+    return pyfrustrate.anneal(particle, g=g, **kw)
 
 
 def test_anneal_result(particle, g):
@@ -612,7 +613,7 @@ def test_anneal_runs_for_every_particle_model(name):
     table of the final sites."""
     particle = MODELS[name]()
     g = 2 * particle.bulk_energy_per_particle
-    r = pyfrustrate.anneal(particle, g, box=8, n=30, steps=30 * 50, seed=3, progress=False, method="linear")
+    r = pyfrustrate.anneal(particle, g=g, box=8, n=30, steps=30 * 50, seed=3, progress=False, method="linear")
     occupied = {tuple(s) for s in r.sites.tolist()}
 
     def wrap(v):
