@@ -1,5 +1,5 @@
 """Tests of the Monte Carlo annealing of aggregate topologies (``pyfrustrate.montecarlo``,
-``kernel/montecarlo.hpp``).
+``kernel/montecarlo/``).
 
 References are independent of the kernel's bookkeeping: energies recomputed from scratch over
 every cluster (with and without canonical representatives), periodic cells built by

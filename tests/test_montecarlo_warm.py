@@ -1,4 +1,4 @@
-"""Warm-started exact cluster energies in the Monte Carlo (``parent_start``, kernel/montecarlo.hpp;
+"""Warm-started exact cluster energies in the Monte Carlo (``parent_start``, kernel/montecarlo/chain.hpp;
 ``anneal(method="newton", warm_start=True)``): each move's clusters are relaxed by Newton from the
 relaxed displacements of the clusters they came from instead of from the linear solution of
 their canonical representative.

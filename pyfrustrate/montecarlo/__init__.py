@@ -1,6 +1,6 @@
 """Monte Carlo of aggregate topologies (main text, "Monte-Carlo validation of the phase diagram";
 the snapshots of Fig. 3b): simulated annealing and replica exchange over the kernel's chain
-(``kernel/montecarlo.hpp``).
+(``kernel/montecarlo/``).
 
 Modules: ``options`` (``MonteCarloOptions``, the one options type, checked once; ``binding``,
 ``Gamma=`` or ``g=``), ``anneal`` (schedules, ``anneal``), ``exchange`` (``replica_exchange``),

@@ -19,7 +19,7 @@ Boltzmann factors. The chain samples exactly ``exp(-E/T)`` at every temperature,
 Metropolis (``delayed_acceptance=False``), with most relaxations skipped at low ``T``. At
 ``T = 0`` the run is a descent: every move that lowers the energy is taken.
 
-The kernel (``kernel/montecarlo.hpp``) recomputes only the clusters a move leaves and joins and
+The kernel (``kernel/montecarlo/``) recomputes only the clusters a move leaves and joins and
 caches relaxed energies by shape up to translations and the symmetries the particle shares with
 its tiling (hexagons: D3, the colour-preserving rotations by 120 degrees and mirrors, not the
 60-degree rotations, which swap the yellow and red corners; random hexagons: C3, their ``M``
@@ -83,7 +83,7 @@ class AnnealState:
     parameters) to continue the run."""
 
     done: int
-    chain: ChainState = field(repr=False)
+    chain: ChainState = field(repr=False)  # type: ignore[valid-type]
     energy_trace: np.ndarray = field(repr=False)
     accepted: np.ndarray = field(repr=False)
     elapsed: float = 0.0
@@ -402,7 +402,6 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
                   T0=T0, T_end=T_end, steps=total_steps, record_every=record_every, cache=opts.cache,
                   bond_deformation=opts.kernel_arguments(particle)["bond_deformation"])
 
-    mc = new_chain(particle, g, box, n, seed, opts)
     energies, accepted = [], []
     done, elapsed_before, resumed = 0, 0.0, False
     if state is None and checkpoint is not None and os.path.exists(checkpoint):
@@ -412,14 +411,14 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
             raise ValueError(f"state must be an AnnealState, got {type(state).__name__}")
         if not 0 <= state.done <= len(temps) or len(state.energy_trace) != state.done:
             raise ValueError(f"state: {state.done} blocks done does not fit this run's {len(temps)} blocks")
-        state.chain.put_into(mc)
         energies, accepted = list(state.energy_trace), list(state.accepted)
         done, elapsed_before, resumed = int(state.done), float(state.elapsed), True
+    mc = new_chain(particle, g, box, n, seed, opts, state=state.chain if state is not None else None)
 
     start = time.perf_counter()
 
     def snapshot(blocks_done):
-        return AnnealState(done=blocks_done, chain=ChainState.of(mc), energy_trace=np.asarray(energies[:blocks_done], float),
+        return AnnealState(done=blocks_done, chain=mc.state, energy_trace=np.asarray(energies[:blocks_done], float),
                            accepted=np.asarray(accepted[:blocks_done], np.int64),
                            elapsed=elapsed_before + time.perf_counter() - start)
 

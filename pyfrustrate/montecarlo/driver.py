@@ -4,15 +4,13 @@ A run is a number of units (an anneal's record blocks, an exchange's rounds) adv
 caller's ``advance``; the driver shows progress, saves a checkpoint every ``checkpoint_interval``
 seconds, on any interruption (the last completed unit: ``KeyboardInterrupt``, SIGTERM through
 ``io.sigterm_raises``, an exception from a callback) and at the end. A kernel chain's state is a
-value (``ChainState``): made from a chain, put into a new one, written to a checkpoint and read
+value (``ChainState``): read from a chain, passed into a new one, written to a checkpoint and read
 back exactly (the random generator as text, the running deformation energy as a float).
 """
 from __future__ import annotations
 
 import hashlib
 import time
-from dataclasses import dataclass
-
 import numpy as np
 
 from .. import _kernel
@@ -50,51 +48,40 @@ def particle_signature(particle) -> dict:
     return params
 
 
-def new_chain(particle, g: float, box: int, n: int, seed: int, options: MonteCarloOptions):
-    """A kernel chain of ``n`` particles at random in the box, its generator seeded by ``seed``."""
-    return _kernel.MonteCarlo(particle._kernel_model, g, box, n, seed, **options.kernel_arguments(particle))
+def new_chain(particle, g: float, box: int, n: int, seed: int, options: MonteCarloOptions, state=None):
+    """A kernel chain of ``n`` particles at random in the box, its generator seeded by ``seed``,
+    or continuing ``state`` (a ``ChainState`` of the same box and particles)."""
+    return _kernel.MonteCarlo(particle._kernel_model, g, box, n, seed, state=state,
+                              **options.kernel_arguments(particle))
 
 
-@dataclass(frozen=True)
-class ChainState:
-    """One kernel chain's state, a value: the ``particles``' sites, the ``rng_state`` of its
-    ``std::mt19937_64`` (text), the running ``deformation`` energy and the ``counters``. With the
-    run's parameters it determines the rest of the chain (the cache and, with Newton warm
-    starts, the relaxed displacements only change energies within the relaxation tolerance)."""
-
-    particles: np.ndarray
-    rng_state: str
-    deformation: float
-    counters: dict
-
-    @classmethod
-    def of(cls, chain) -> "ChainState":
-        return cls(particles=np.asarray(chain.particles), rng_state=chain.rng_state,
-                   deformation=float(chain.deformation), counters=dict(chain.counters))
-
-    def put_into(self, chain) -> None:
-        """Sets ``chain`` (same box, particles and options) to this state."""
-        chain.place(self.particles)
-        chain.rng_state = self.rng_state
-        chain.set_deformation(self.deformation)
-        chain.counters = dict(self.counters)
+#: One kernel chain's state, a value (kernel/montecarlo/state.hpp): ``particles`` (sites),
+#: ``rng_state`` (its ``std::mt19937_64`` as text), the running ``deformation``, ``counters``, and
+#: the warm-start store (``displacement``, ``known``). Read from a chain (``chain.state``), passed
+#: into a new one (``new_chain(..., state=)``); with the run's parameters it determines the rest of
+#: the chain (only the cache, which changes Newton warm starts within the relaxation tolerance,
+#: is not part of it).
+ChainState = _kernel.MonteCarloState
 
 
 def chain_states_to_disk(states) -> tuple[dict, dict]:
     """(metadata, arrays) of a list of chain states, for ``write_checkpoint``."""
-    metadata = dict(rng_states=[s.rng_state for s in states], deformations=[s.deformation for s in states],
-                    counters=[s.counters for s in states])
-    return metadata, dict(particles=np.stack([np.asarray(s.particles, np.int32) for s in states]))
+    metadata = dict(tiling=states[0].tiling, box=states[0].box, rng_states=[s.rng_state for s in states],
+                    deformations=[s.deformation for s in states], counters=[s.counters for s in states])
+    arrays = dict(particles=np.stack([np.asarray(s.particles, np.int32) for s in states]),
+                  displacement=np.stack([s.displacement for s in states]), known=np.stack([s.known for s in states]))
+    return metadata, arrays
 
 
-def chain_states_from_disk(path, metadata: dict, arrays: dict) -> list[ChainState]:
+def chain_states_from_disk(path, metadata: dict, arrays: dict) -> list:
     """The chain states ``chain_states_to_disk`` wrote, or ValueError naming the file."""
     try:
-        particles = arrays["particles"]
-        return [ChainState(particles=p, rng_state=str(r), deformation=float(d), counters={k: int(v) for k, v in c.items()})
-                for p, r, d, c in zip(particles, metadata["rng_states"], metadata["deformations"], metadata["counters"],
-                                      strict=True)]
-    except (KeyError, TypeError, ValueError, AttributeError) as e:
+        parts = zip(arrays["particles"], metadata["rng_states"], metadata["deformations"], metadata["counters"],
+                    arrays["displacement"], arrays["known"], strict=True)
+        return [ChainState(str(metadata["tiling"]), int(metadata["box"]), particles, str(rng), float(deformation),
+                           {str(k): int(v) for k, v in counters.items()}, displacement, known)
+                for particles, rng, deformation, counters, displacement, known in parts]
+    except (KeyError, TypeError, ValueError, AttributeError, RuntimeError) as e:
         raise ValueError(f"checkpoint: {path!r} holds an incomplete chain state ({type(e).__name__}: {e}); delete it or "
                          "pass another checkpoint path to start the run afresh") from None
 

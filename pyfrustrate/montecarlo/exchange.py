@@ -38,7 +38,7 @@ import numpy as np
 from .._checks import integer
 from .analysis import BoxState
 from .checkpoints import read_checkpoint_file
-from .driver import ChainState, box_run, chain_states_from_disk, drive, new_chain, particle_signature, save
+from .driver import box_run, chain_states_from_disk, drive, new_chain, particle_signature, save
 from .options import chain_options
 from .trajectory import Trajectory
 
@@ -60,7 +60,7 @@ def geometric_temperatures(T_min: float, T_max: float, count: int) -> np.ndarray
 class ReplicaState:
     """Everything a replica-exchange run needs to continue: a value.
 
-    ``replicas``: each replica's ``ChainState``; ``slot_of_replica[k]``: the temperature index
+    ``replicas``: each replica's ``ChainState`` (``driver``); ``slot_of_replica[k]``: the temperature index
     replica ``k`` holds; ``swap_rng``: the bit-generator state of the swap stream; ``rounds``:
     rounds done; ``energy`` (rounds, K): the energy at each temperature after each round;
     ``swaps_attempted`` and ``swaps_accepted`` (K - 1,): per neighbouring pair; ``best_energy``
@@ -195,7 +195,6 @@ def replica_exchange(particle, temperatures, *, g=None, Gamma=None, convention="
             raise ValueError(f"initial_sites must be an integer array of sites, got {initial_sites!r}") from None
         signature["initial_sites"] = hashlib.sha256(initial_sites.tobytes()).hexdigest()
     replica_seeds, swap_rng = _streams(seed, K)
-    chains = [new_chain(particle, g, box, n, s, opts) for s in replica_seeds]
 
     resumed = False
     if state is None and checkpoint is not None and os.path.exists(checkpoint):
@@ -206,11 +205,11 @@ def replica_exchange(particle, temperatures, *, g=None, Gamma=None, convention="
         state = copy.deepcopy(state)
         if len(state.replicas) != K:
             raise ValueError(f"state has {len(state.replicas)} replicas, the ladder {K} temperatures")
-        for mc, saved in zip(chains, state.replicas):
-            saved.put_into(mc)
+        chains = [new_chain(particle, g, box, n, s, opts, state=saved) for s, saved in zip(replica_seeds, state.replicas)]
         swap_rng.bit_generator.state = state.swap_rng
         resumed = True
     else:
+        chains = [new_chain(particle, g, box, n, s, opts) for s in replica_seeds]
         if initial_sites is not None:
             try:
                 for mc in chains:
@@ -222,7 +221,7 @@ def replica_exchange(particle, temperatures, *, g=None, Gamma=None, convention="
                              last_end=np.full(K, -1))
 
     def capture():
-        state.replicas = [ChainState.of(mc) for mc in chains]
+        state.replicas = [mc.state for mc in chains]
         state.swap_rng = swap_rng.bit_generator.state
         return state
 
@@ -279,11 +278,10 @@ def replica_exchange(particle, temperatures, *, g=None, Gamma=None, convention="
             writer.close()
     final = copy.deepcopy(capture())
 
-    # The coldest configuration, quenched on a fresh chain (the sampling state is left as is).
+    # The coldest configuration, quenched on a chain continuing its state (the sampling state is
+    # left as is).
     cold = int(np.argsort(state.slot_of_replica)[0])
-    quench = new_chain(particle, g, box, n, replica_seeds[cold], opts)
-    quench.place(final.replicas[cold].particles)
-    quench.set_deformation(final.replicas[cold].deformation)
+    quench = new_chain(particle, g, box, n, replica_seeds[cold], opts, state=final.replicas[cold])
     if quench_sweeps:
         quench.run(np.zeros(quench_sweeps), np.full(quench_sweeps, n, np.int64))
     counters: dict[str, int] = {}
