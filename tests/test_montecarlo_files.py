@@ -262,3 +262,40 @@ def test_one_options_type_checked_once(particle, g):
         run(particle, g, moves_per_sweep=3)
     with pytest.raises(TypeError, match="options"):
         run(particle, g, options=dict(method="lbfgs"))
+
+
+# --------------------------------------------------------------------------------------------
+# The kernel's chain state as a value
+# --------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("moves", [dict(), dict(cluster_moves=0.3, cluster_link=0.7, bonded_moves=0.4, surface_moves=0.3)])
+def test_a_chain_continued_from_its_state_equals_the_uninterrupted_one(particle, g, moves):
+    """A state read from a chain and passed into a new one (the cache empty, the state rebuilt
+    from its parts as a checkpoint would) continues the same chain: the same sites, energies,
+    counters and random stream as one chain run throughout."""
+    from pyfrustrate import _kernel
+
+    def chain(**kw):
+        return _kernel.MonteCarlo(particle._kernel_model, g, 8, 20, 5, "lbfgs", 1e-6 * particle.force_scale, **moves, **kw)
+
+    T = np.linspace(g, 0.1 * g, 12)
+    whole = chain()
+    whole_energy = whole.run(T, np.full(12, 40))["energy"]
+    first = chain()
+    first_energy = first.run(T[:5], np.full(5, 40))["energy"]
+    s = first.state
+    rebuilt = _kernel.MonteCarloState(s.tiling, s.box, s.particles, s.rng_state, s.deformation, s.counters,
+                                      s.displacement, s.known)
+    second = chain(state=rebuilt)
+    second_energy = second.run(T[5:], np.full(7, 40))["energy"]
+    assert np.array_equal(np.concatenate([first_energy, second_energy]), whole_energy)
+    assert np.array_equal(second.particles, whole.particles) and second.state.rng_state == whole.state.rng_state
+    cache_free = ("cache_hits", "cache_misses", "minimisations", "evaluations", "factorizations")
+    assert {k: v for k, v in second.counters.items() if k not in cache_free} == \
+        {k: v for k, v in whole.counters.items() if k not in cache_free}
+    # Each family's counters under its own name, as many as the chain attempted.
+    c = whole.counters
+    assert c["cluster_attempted"] + c["surface_attempted"] <= c["attempted"]
+    assert (c["cluster_attempted"] > 0) == ("cluster_moves" in moves)
+    with pytest.raises(ValueError, match="state"):
+        _kernel.MonteCarlo(particle._kernel_model, g, 9, 20, 5, state=rebuilt)  # another box
