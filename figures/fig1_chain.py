@@ -1,6 +1,7 @@
-"""Fig. 1: the 1D toy model. (a) A relaxed chain of trapezoids (mismatch exaggerated);
-(b) the corner shift delta_i from the kernel's L-BFGS against the exact sinh form;
-(c) the fitted boundary-layer length against main text Eq. (3)."""
+"""Fig. 1: the 1D toy model. (a) A relaxed chain of trapezoids (mismatch exaggerated): yellow
+faces rest at 1 + eps, red at 1 - eps, blue connecting springs; (b) the corner shift delta_i
+from the kernel's L-BFGS against the exact sinh form; (c) the fitted boundary-layer length
+against main text Eq. (3)."""
 import numpy as np
 from matplotlib.collections import LineCollection
 from matplotlib.patches import Polygon
@@ -25,40 +26,44 @@ def draw_chain(ax, x_up, x_down):
     ax.axis("off")
 
 
+WIDTH_CM, HEIGHT_CM = plotting.PAGE_WIDTH_CM, 8.6
+
+
 def main(data_path, outputs):
     d = load_npz(data_path)
-    fig = plotting.figure(17.8, 9.5)
-    grid = fig.add_gridspec(2, 2, height_ratios=[0.75, 1.6], hspace=0.45, wspace=0.3)
+    fig = plotting.figure(WIDTH_CM, HEIGHT_CM)
 
-    ax = fig.add_subplot(grid[0, :])
+    def rect(left, bottom, w, h):
+        return [left / WIDTH_CM, bottom / HEIGHT_CM, w / WIDTH_CM, h / HEIGHT_CM]
+
+    ax = fig.add_axes(rect(0.6, 6.3, 16.6, 1.8))
     draw_chain(ax, d["drawing_x_up"], d["drawing_x_down"])
-    ax.text(0.5, 1.0, f"relaxed chain, $k_c/k = {float(d['drawing_kc_over_k']):g}$, "
-            f"$\\epsilon = {float(d['drawing_eps']):g}$ (exaggerated): yellow faces rest at $1+\\epsilon$, "
-            "red at $1-\\epsilon$, blue connecting springs", transform=ax.transAxes, ha="center", fontsize=8)
-    plotting.panel_label(ax, "a")
+    plotting.panel_label(ax, "a", dx_pt=0)
 
-    ax = fig.add_subplot(grid[1, 0])
+    ax = fig.add_axes(rect(1.4, 0.9, 6.9, 4.6))
     n = int(d["n"])
     i = np.arange(n + 1)
     colors = ["#1b9e77", "#d95f02", "#7570b3", "#e7298a"]
     for ratio, num, exact, c in zip(d["profile_kc_over_k"], d["profiles"], d["exact"], colors):
-        ax.plot(i, exact / d["eps"], "-", color=c, lw=1.0, label=f"exact, $k_c/k={ratio:g}$")
-        ax.plot(i[::2], num[::2] / d["eps"], "o", ms=2.5, mfc="none", color=c)
-    ax.plot([], [], "o", ms=2.5, mfc="none", color="0.3", label="kernel L-BFGS")
+        ax.plot(i, exact / d["eps"], "-", color=c, lw=1.0, label=f"$k_c/k$ = {ratio:g}")
+        ax.plot(i[::2], num[::2] / d["eps"], "o", ms=2.5, mfc="none", color=c, mew=0.6)
+    ax.plot([], [], "k-", lw=1.0, label="exact (sinh)")
+    ax.plot([], [], "o", ms=2.5, mfc="none", color="k", mew=0.6, label="relaxed numerically")
     ax.axhline(0, color="0.7", lw=0.5)
     ax.set_xlabel("corner index $i$")
-    ax.set_ylabel(r"shift $\delta_i/\epsilon = (x_i^\uparrow - x_i^\downarrow)/\epsilon$")
-    ax.legend(frameon=False, loc="upper left")
+    ax.set_ylabel(r"shift $\delta_i/\epsilon$")
+    ax.legend(loc="upper center", ncol=2)
+    ax.set_ylim(top=ax.get_ylim()[1] * 1.45)
     plotting.panel_label(ax, "b")
 
-    ax = fig.add_subplot(grid[1, 1])
+    ax = fig.add_axes(rect(10.3, 0.9, 6.9, 4.6))
     x = d["scan_kc_over_k"]
-    ax.loglog(x, d["scan_ell_theory"], "-", color="k", lw=1.0, label=r"Eq. (3): $1/\ln[1+x+\sqrt{2x+x^2}]$")
+    ax.loglog(x, d["scan_ell_theory"], "-", color="k", lw=1.0, label="Eq. (3)")
     ax.loglog(x, np.sqrt(1 / (2 * x)), "--", color="0.5", lw=0.8, label=r"$\sqrt{k/2k_c}$")
     ax.loglog(x, d["scan_ell_fit"], "o", ms=3.5, mfc="none", color="#d95f02", label="fit to relaxed chains")
-    ax.set_xlabel(r"$x = k_c/k$")
-    ax.set_ylabel(r"boundary-layer length $\ell$")
-    ax.legend(frameon=False)
+    ax.set_xlabel(r"coupling stiffness $k_c/k$")
+    ax.set_ylabel(plotting.LABELS["ell"])
+    ax.legend(loc="upper right")
     plotting.panel_label(ax, "c")
     plotting.save(fig, outputs)
 

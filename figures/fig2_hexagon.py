@@ -11,48 +11,51 @@ from pyfrustrate import plotting
 from pyfrustrate.io import load_npz, logging_to
 
 
-def caption(ax, text):
-    ax.text(0.5, -0.01, text, transform=ax.transAxes, ha="center", va="top", fontsize=7)
+WIDTH_CM, HEIGHT_CM = plotting.PAGE_WIDTH_CM, 6.0
+
+
+def note(ax, text):
+    """A short line under a drawing: what it is drawn at."""
+    ax.text(0.5, -0.02, text, transform=ax.transAxes, ha="center", va="top")
 
 
 def main(data_path, outputs):
     d = load_npz(data_path)
-    fig = plotting.figure(17.8, 6.6)
+    fig = plotting.figure(WIDTH_CM, HEIGHT_CM)
     norm = Normalize(0.3, 1.1)
     cmap = "magma"
     eps = float(d["drawing_eps"])
 
-    ax = fig.add_axes([0.0, 0.15, 0.14, 0.7])
+    def rect(left, bottom, w, h):
+        return [left / WIDTH_CM, bottom / HEIGHT_CM, w / WIDTH_CM, h / HEIGHT_CM]
+
+    ax = fig.add_axes(rect(0.3, 1.2, 2.4, 3.6))
     plotting.draw_particle_springs(ax, d["rest_corners"])
-    caption(ax, rf"particle at rest, $\epsilon={eps:g}$")
+    note(ax, rf"at rest, $\epsilon$ = {eps:g}")
     ax.axis("off")
-    plotting.panel_label(ax, "a")
+    plotting.panel_label(ax, "a", at_cm=(0.1, HEIGHT_CM - 0.15))
 
-    ax = fig.add_axes([0.15, 0.05, 0.22, 0.85])
-    plotting.draw_hexagons(ax, d["small_corners"], facecolor="0.92", edgecolor=plotting.BLUE_SPRING, linewidth=0.8)
-    corners = d["small_corners"]
-    ax.scatter(*corners[:, 1::2].reshape(-1, 2).T, s=4, color=plotting.YELLOW, edgecolor="k", linewidth=0.2, zorder=3)
-    ax.scatter(*corners[:, 0::2].reshape(-1, 2).T, s=4, color=plotting.RED_CORNER, edgecolor="k", linewidth=0.2, zorder=3)
-    caption(ax, rf"relaxed, $\epsilon={eps:g}$, $\ell={float(d['drawing_ell']):g}$")
+    ax = fig.add_axes(rect(3.0, 0.6, 4.0, 4.9))
+    plotting.draw_particle_springs(ax, d["small_corners"], linewidth=0.7, markersize=3)
+    note(ax, rf"relaxed, $\epsilon$ = {eps:g}, $\ell$ = {float(d['drawing_ell']):g}")
     ax.axis("off")
-    plotting.panel_label(ax, "b")
+    plotting.panel_label(ax, "b", at_cm=(3.0, HEIGHT_CM - 0.15))
 
-    ax = fig.add_axes([0.39, 0.05, 0.26, 0.85])
+    ax = fig.add_axes(rect(7.4, 0.6, 4.6, 4.9))
     plotting.draw_hexagons(ax, d["disk_corners"], d["disk_energy"], cmap=cmap, norm=norm, linewidth=0.1)
-    caption(ax, f"disk, mean {float(d['disk_mean']):.2f} of bulk")
+    note(ax, f"disk: mean {float(d['disk_mean']):.2f}")
     ax.axis("off")
-    plotting.panel_label(ax, "c")
+    plotting.panel_label(ax, "c", at_cm=(7.4, HEIGHT_CM - 0.15))
 
-    ax = fig.add_axes([0.67, 0.05, 0.22, 0.85])
+    ax = fig.add_axes(rect(12.2, 0.6, 3.6, 4.9))
     polys = plotting.draw_hexagons(ax, d["fiber_corners"], d["fiber_energy"], cmap=cmap, norm=norm, linewidth=0.1)
-    caption(ax, f"fibre (periodic cell repeated), mean {float(d['fiber_mean']):.2f}")
+    note(ax, f"fibre: mean {float(d['fiber_mean']):.2f}")
     ax.axis("off")
-    plotting.panel_label(ax, "d")
+    plotting.panel_label(ax, "d", at_cm=(12.2, HEIGHT_CM - 0.15))
 
-    cax = fig.add_axes([0.91, 0.15, 0.012, 0.7])
-    fig.colorbar(polys, cax=cax, label="particle energy / bulk value", extend="both")
-    fig.text(0.39, -0.06, rf"(c, d): $\ell = {float(d['ell']):g}$, $\nu = {float(d['nu']):g}$, "
-             rf"$\epsilon = {float(d['eps']):g}$", fontsize=7)
+    cax = fig.add_axes(rect(16.1, 1.0, 0.25, 4.0))
+    fig.colorbar(polys, cax=cax, extend="both")
+    cax.set_ylabel(plotting.LABELS["energy"])
     plotting.save(fig, outputs)
 
 

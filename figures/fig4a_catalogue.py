@@ -1,34 +1,86 @@
-"""Fig. 4a: the catalogue of pre-made aggregates, drawn from relaxed shapes (mismatch
-exaggerated, particles coloured by deformation energy over the bulk value): bulks with holes,
-the three fibre cuts (cut 0 is left-right asymmetric and curves), hexagonal disks including the
-single particle, and the bulk."""
+"""Fig. 4a: the catalogue of pre-made aggregates, drawn from relaxed shapes on one length scale
+(mismatch exaggerated, particles coloured by deformation energy over the bulk value): bulks with
+holes, the three fibre cuts, hexagonal disks including the single particle, and the bulk with
+white lines along the three cuts that make the fibres. Under each curved fibre, its radius of
+curvature measured on the drawing (a circle fitted to its particle centres)."""
+import numpy as np
 from matplotlib.colors import Normalize
+from matplotlib.patheffects import withStroke
 
-from pyfrustrate import plotting
+from pyfrustrate import plotting, topology
 from pyfrustrate.io import load_npz, logging_to
 
 PANELS = [
-    ("holes_honeycomb", "bulk with holes\n(honeycomb: zero energy)"), ("holes_kagome", "bulk with holes\n(kagome)"),
-    ("holes_sqrt7", r"bulk with holes ($\sqrt{7}$)"), ("fiber_cut0", "fibre, cut 0\n(asymmetric, curves)"),
-    ("fiber_cut1", "fibre, cut 1\n(symmetric)"), ("fiber_cut2", "fibre, cut 2\n(stepped edges)"),
-    ("single", "single particle"), ("disk_R1", "disk R = 1"), ("disk_R3", "disk R = 3"), ("bulk", "bulk"),
+    ("holes_honeycomb", "bulk with holes\n(honeycomb)"), ("holes_kagome", "bulk with holes\n(kagome)"),
+    ("holes_sqrt7", "bulk with holes\n" r"($\sqrt{7}$ pattern)"), ("fiber_cut0", "fibre, cut 0\n(flat edges)"),
+    ("fiber_cut1", "fibre, cut 1\n(zig-zag edges)"), ("fiber_cut2", "fibre, cut 2\n(stepped edges)"),
+    ("single", "single particle"), ("disk_R1", "disk, $R$ = 1"), ("disk_R3", "disk, $R$ = 3"), ("bulk", "bulk"),
 ]
+WIDTH_CM, HEIGHT_CM, COLS = plotting.PAGE_WIDTH_CM, 8.4, 5
+PANEL_CM, HALF_WINDOW = 2.95, 7.0  # every panel shows 2 x HALF_WINDOW particle spacings across
+
+
+def period_centres(corners, energy):
+    """Centre of each repeated period of a drawn fibre: the drawing repeats one relaxed cell, so
+    the per-particle energies repeat with the cell's particle count."""
+    energy = np.asarray(energy)
+    cell = next(p for p in range(1, len(energy) + 1)
+                if len(energy) % p == 0 and np.allclose(energy[p:], energy[:-p], rtol=1e-9, atol=1e-12))
+    return np.asarray(corners).mean(axis=1).reshape(-1, cell, 2).mean(axis=1)
+
+
+def curvature_radius(corners, energy) -> float:
+    """Radius of the circle through the centres of a drawn fibre's periods (algebraic
+    least-squares fit), in particle spacings; infinite when they lie on a line (a bend of less
+    than 0.05 spacings over the drawn length)."""
+    xy = period_centres(corners, energy)
+    A = np.column_stack([2 * xy, np.ones(len(xy))])
+    b = (xy ** 2).sum(axis=1)
+    (cx, cy, c), *_ = np.linalg.lstsq(A, b, rcond=None)
+    radius = float(np.sqrt(c + cx ** 2 + cy ** 2))
+    length = np.linalg.norm(xy[-1] - xy[0])
+    sagitta = radius - np.sqrt(max(radius ** 2 - (length / 2) ** 2, 0.0))
+    return radius if sagitta > 0.05 else np.inf
+
+
+def draw_cut_lines(ax, centre):
+    """White lines through the bulk along the axis of each fibre cut, numbered."""
+    for cut in (0, 1, 2):
+        direction = topology.cell_positions([topology.fiber_axis(cut)])[0]
+        direction /= np.linalg.norm(direction)
+        ends = centre + np.outer([-0.55 * HALF_WINDOW, 0.55 * HALF_WINDOW], direction)
+        ax.plot(*ends.T, color="w", lw=1.4, zorder=5)
+        label = centre + 0.66 * HALF_WINDOW * direction
+        ax.text(*label, str(cut), color="k", fontsize=7, fontweight="bold", ha="center", va="center", zorder=6,
+                path_effects=[withStroke(linewidth=2.0, foreground="w")])
 
 
 def main(data_path, outputs):
     d = load_npz(data_path)
-    fig = plotting.figure(17.8, 8.5)
+    fig = plotting.figure(WIDTH_CM, HEIGHT_CM)
     norm = Normalize(0, 1.1)
     for n, (name, title) in enumerate(PANELS):
-        ax = fig.add_subplot(2, 5, n + 1)
-        polys = plotting.draw_hexagons(ax, d[f"{name}_corners"], d[f"{name}_energy"], cmap="magma", norm=norm,
-                                       linewidth=0.2)
-        ax.set_title(title, fontsize=7)
+        i, j = divmod(n, COLS)
+        left, bottom = 0.15 + j * (PANEL_CM + 0.2), HEIGHT_CM - 1.0 - (i + 1) * PANEL_CM - i * 0.9
+        ax = fig.add_axes([left / WIDTH_CM, bottom / HEIGHT_CM, PANEL_CM / WIDTH_CM, PANEL_CM / HEIGHT_CM])
+        corners = d[f"{name}_corners"]
+        polys = plotting.draw_hexagons(ax, corners, d[f"{name}_energy"], cmap="magma", norm=norm, linewidth=0.2)
+        centre = np.asarray(corners).reshape(-1, 2).mean(axis=0)
+        if name.startswith("fiber"):
+            periods = period_centres(corners, d[f"{name}_energy"])
+            centre = periods[len(periods) // 2]  # a curved fibre's mean lies off the fibre
+            radius = curvature_radius(corners, d[f"{name}_energy"])
+            ax.text(0.5, -0.02, "straight" if np.isinf(radius) else f"radius of curvature {radius:.0f}",
+                    transform=ax.transAxes, ha="center", va="top", fontsize=6)
+        if name == "bulk":
+            draw_cut_lines(ax, centre)
+        ax.set_xlim(centre[0] - HALF_WINDOW, centre[0] + HALF_WINDOW)
+        ax.set_ylim(centre[1] - HALF_WINDOW, centre[1] + HALF_WINDOW)
+        ax.set_title(title, pad=2)
         ax.axis("off")
-    cax = fig.add_axes([0.93, 0.15, 0.012, 0.7])
-    fig.colorbar(polys, cax=cax, label="particle energy / bulk")
-    fig.text(0.5, 0.01, rf"relaxed at $\ell={float(d['ell']):g}$, $\nu={float(d['nu']):g}$, "
-             rf"$\epsilon={float(d['eps']):g}$ (exaggerated to show the shapes)", ha="center", fontsize=7)
+    cax = fig.add_axes([16.0 / WIDTH_CM, 1.0 / HEIGHT_CM, 0.22 / WIDTH_CM, 5.0 / HEIGHT_CM])
+    fig.colorbar(polys, cax=cax, extend="max")
+    cax.set_ylabel(plotting.LABELS["energy"])
     plotting.save(fig, outputs)
 
 

@@ -41,7 +41,7 @@ def collapse_range(ells, medians) -> str:
 def main(data_path, outputs):
     d = load_npz(data_path)
     G, ells = d["Gamma"], d["ells"]
-    fig = plotting.figure(17.8, 12.0)
+    fig = plotting.figure(plotting.PAGE_WIDTH_CM, 11.0)
     colors = ["#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02"]
     summary = []
     grid = fig.add_gridspec(2, 3, width_ratios=[1, 1, 0.5])
@@ -71,17 +71,19 @@ def main(data_path, outputs):
                 # Beside the panel: inside, it would cover the curves.
                 legend_ax = fig.add_subplot(grid[row, 2])
                 legend_ax.axis("off")
-                legend_ax.legend(*ax.get_legend_handles_labels(), frameon=False, fontsize=6.5, loc="center left",
+                legend_ax.legend(*ax.get_legend_handles_labels(), loc="center left",
                                  title=rf"median ${symbol}^*/{symbol}^*_\mathrm{{continuum}}$" "\n(quartiles) over the "
-                                 r"$\Gamma$ grid", title_fontsize=6.5, alignment="left")
+                                 r"$\Gamma$ grid", alignment="left")
             else:
-                ax.set_ylabel(rf"${symbol}^*$ (particle spacings)")
-            ax.set_xlabel(r"$\Gamma$")
-            ax.set_title(rf"best {'fibre' if kind == 'fiber' else 'disk'}, $\nu = {nu:g}$", fontsize=8)
+                ax.set_ylabel(rf"${symbol}^*$ ({plotting.LENGTH_UNIT})")
+            ax.set_xlabel(plotting.LABELS["Gamma"])
+            ax.set_title(rf"best {'fibre' if kind == 'fiber' else 'disk'}, $\nu$ = {nu:g}")
+            if row == 0 and col == 0:
+                plotting.panel_label(ax, "b", dx_pt=-22)
             ax.set_xlim(0, G[-1])
             ax.set_ylim(0, None)
-    fig.tight_layout(rect=(0, 0.04, 1, 1))
-    fig.text(0.5, 0.005, "Collapse onto the continuum: " + "; ".join(summary) + ".", ha="center", fontsize=7)
+    fig.tight_layout(rect=(0, 0.05, 1, 0.97))
+    fig.text(0.5, 0.01, "Collapse onto the continuum: " + "; ".join(summary) + ".", ha="center")
     plotting.save(fig, outputs)
 
 

@@ -1,13 +1,13 @@
 """Fig. 5: random-elasticity particles. (a) the nine distances that define a particle's shape,
 each labelled at the midpoint of the corner pair it joins (random_particles.DISTANCE_PAIRS):
 d1-d3 the yellow triangle, d4-d6 the red one, d7-d9 alternate hexagon sides; (b) the paper's
-measurement of ell: excess energy per particle against the distance from the edge of a
-half-plane (a wide strip, in lattice spacings a = 1), fitted, beside the exact slowest mode of
+measurement of ell: a half-plane of particles coloured by deformation energy, and the excess
+energy per particle against the distance from the edge, fitted, beside the exact slowest mode of
 the layer-to-layer transfer problem; (c) ell against the predictor ell_pred of the supplement,
-particles per hexagonal bin on a log colour scale (right: the strip fit against the exact ell);
-(d) each particle's optimal fibre width and disk radius over its own continuum prediction (its
-own nu and ell), against Gamma over its own Gamma_max: the test of the paper's "centred around
-W* and R* predicted by the continuum"."""
+particles per hexagonal bin, equal axes (beside it, beyond the paper: the strip fit against the
+exact ell); (d) the paper's form: the best fibre's W*/ell and disk's R*/ell of every particle
+against Gamma, with the continuum lines; (e) beyond the paper: each particle's sizes over its own
+continuum prediction (its own nu and ell) against Gamma over its own Gamma_max."""
 import numpy as np
 
 from pyfrustrate import continuum, plotting
@@ -19,7 +19,7 @@ def draw_distances(ax):
     eps = 0.15  # exaggerated mismatch, for the drawing only
     # The rest corners with the yellow (odd) slots pushed out and the red (even) ones pulled in.
     radius = np.where(np.arange(6) % 2, 1 + eps, 1 - eps)
-    plotting.draw_distance_definitions(ax, rp.REST_CORNERS * radius[:, None], rp.DISTANCE_PAIRS, fontsize=6.5)
+    plotting.draw_distance_definitions(ax, rp.REST_CORNERS * radius[:, None], rp.DISTANCE_PAIRS, fontsize=7)
     ax.set_xlim(-0.9, 0.9)
     ax.set_ylim(-0.85, 0.9)
     ax.axis("off")
@@ -34,8 +34,7 @@ def draw_profile(fig, strip_ax, ax, fits):
     polys.set_clim(0, max(1.0, energy[keep].max()))
     strip_ax.axis("off")
     bar = fig.colorbar(polys, ax=strip_ax, orientation="horizontal", fraction=0.08, pad=0.03, aspect=30)
-    bar.set_label(r"deformation energy $e/e_\mathrm{bulk}$", fontsize=7)
-    bar.ax.tick_params(labelsize=6)
+    bar.set_label(plotting.LABELS["energy"])
     d, excess = fits["example_distance"], np.abs(fits["example_excess"])
     ok = excess > 0
     ax.semilogy(d[ok], excess[ok], "o", ms=2.5, color="k", label="strip rows")
@@ -44,30 +43,33 @@ def draw_profile(fig, strip_ax, ax, fits):
         ax.semilogy(d, excess[anchor] * np.exp(-(d - d[anchor]) / length), style, color="#d3002d", lw=1,
                     label=rf"{label}: $\ell={length:.2f}$")
     ax.set_ylim(max(excess[ok].min(), 1e-8), 2 * excess.max())
-    ax.set_xlim(0, min(d[-1], 8 * fits["example_ell"]))
-    ax.set_xlabel("distance from the edge\n" r"(lattice spacings, $a = 1$)")
+    ax.set_xlim(-0.05 * min(d[-1], 8 * fits["example_ell"]), min(d[-1], 8 * fits["example_ell"]))  # 0 clear of the corner
+    ax.set_xlabel(f"distance from the edge ({plotting.LENGTH_UNIT})")
+    ax.set_title("excess energy per particle")
     ax.set_ylabel(r"$|e - e_\mathrm{bulk}|/e_\mathrm{bulk}$")
-    ax.legend(frameon=False, fontsize=6)
+    ax.legend(loc="lower left")
 
 
 def draw_ell(ax, summary):
+    """The paper's Fig. 5c, on equal logarithmic axes, with the median of ell / ell_pred."""
     ell, pred = summary["plotted_ell"].astype(float), summary["plotted_ell_pred"].astype(float)
     ok = (ell > 0) & (pred > 0)
-    bins = ax.hexbin(pred[ok], ell[ok], xscale="log", yscale="log", gridsize=45, bins="log", cmap="Greys", mincnt=1,
-                     linewidths=0)
-    # Inside the empty lower-right corner, so that the panel keeps its width.
-    bar = ax.figure.colorbar(bins, cax=ax.inset_axes([0.6, 0.2, 0.35, 0.045]), orientation="horizontal")
-    bar.ax.set_title("particles per bin", fontsize=6, pad=2)
-    bar.ax.tick_params(labelsize=5.5, pad=1)
+    lo, hi = 0.05, 10.0
+    bins = ax.hexbin(pred[ok], ell[ok], xscale="log", yscale="log", gridsize=40, bins="log", cmap="Greys", mincnt=1,
+                     linewidths=0, extent=(np.log10(lo), np.log10(hi), np.log10(lo), np.log10(hi)))
+    bar = ax.figure.colorbar(bins, cax=ax.inset_axes([0.55, 0.12, 0.4, 0.045]), orientation="horizontal")
+    bar.ax.set_title("particles per bin", pad=2)
     bar.ax.minorticks_off()
-    line = np.array([0.05, 20])
-    ax.plot(line, line, color="#d3002d", lw=1.2)
-    ax.set_xlim(0.05, 10)
-    ax.set_ylim(0.1, 10)
-    ax.set_xlabel(r"$\ell^\mathrm{pred}$ (supplement Eq. S23)")
+    ax.plot([lo, hi], [lo, hi], color="#d3002d", lw=1.2)
+    ax.set_xlim(lo, hi)
+    ax.set_ylim(lo, hi)
+    ax.set_aspect("equal")
+    ax.set_xlabel(r"predicted $\ell^\mathrm{pred}$ (supplement)")
     ax.set_ylabel(r"$\ell$ (transfer problem)")
     r = np.corrcoef(np.log(pred[ok]), np.log(ell[ok]))[0, 1]
-    ax.text(0.04, 0.96, f"{ok.sum()} particles\ncorr(log) = {r:.2f}", transform=ax.transAxes, va="top", fontsize=6)
+    ratio = np.median(ell[ok] / pred[ok])
+    ax.text(0.04, 0.96, f"{ok.sum()} particles\ncorrelation of logs {r:.2f}\n"
+            rf"median $\ell/\ell^\mathrm{{pred}}$ = {ratio:.2f}", transform=ax.transAxes, va="top")
 
 
 def draw_fit_check(ax, fits):
@@ -77,10 +79,11 @@ def draw_fit_check(ax, fits):
     ax.plot([0, hi], [0, hi], color="#d3002d", lw=0.8)
     ax.set_xlim(0, hi)
     ax.set_ylim(0, hi)
+    ax.set_aspect("equal")
     ax.set_xlabel(r"$\ell$ (transfer problem, exact)")
     ax.set_ylabel(r"$\ell$ (strip fit, the paper's protocol)")
     ax.text(0.04, 0.96, f"{np.isfinite(f).sum()} particles\nmedian ratio {np.nanmedian(f / e):.3f}",
-            transform=ax.transAxes, va="top", fontsize=6)
+            transform=ax.transAxes, va="top")
 
 
 def continuum_size(kind, nu, Gamma):
@@ -129,8 +132,35 @@ def draw_size_ratios(ax, sizes, kind):
     defined = np.isfinite(predicted) & (x[None, :] > 0) & (x[None, :] < 1)
     ax.text(0.98, 0.03, f"capped: {100 * capped[defined].mean():.0f} % of defined points\n"
             f"no finite continuum optimum: {100 * (1 - defined[:, 1:-1].mean()):.0f} %",
-            transform=ax.transAxes, ha="right", va="bottom", fontsize=5.5)
-    ax.legend(frameon=False, fontsize=5.5, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=2)
+            transform=ax.transAxes, ha="right", va="bottom", fontsize=6)
+    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=2)
+
+
+def draw_sizes_over_ell(ax, sizes, kind, nus=(0.0, 0.5, 0.9)):
+    """The paper's Fig. 5d: each particle's best fibre width W*/ell (disk radius R*/ell) at each
+    Gamma (points; the catalogue's largest member left out: a lower bound only), with the
+    continuum optimum in red (one line for fibres, which does not depend on nu; one per nu in
+    ``nus`` for disks)."""
+    key, symbol = ("width", "W") if kind == "fiber" else ("radius", "R")
+    G = sizes["Gamma"]
+    value = sizes[key] / sizes["ell"][:, None]
+    keep = np.isfinite(value) & (value > 0) & ~sizes[f"{key}_capped"]
+    x = np.broadcast_to(G, value.shape)
+    jitter = np.random.default_rng(0).uniform(-0.3, 0.3, value.shape) * np.gradient(G)[None, :]  # drawing only
+    ax.plot((x + jitter)[keep], value[keep], ".", ms=1.2, color=plotting.PHASE_COLORS[kind], alpha=0.25,
+            rasterized=True)
+    line = np.linspace(0, 1.2, 400)
+    if kind == "fiber":
+        ax.plot(line, continuum.optimal_width(0.5, line), color="#d3002d", lw=1.2, label="continuum")
+    else:
+        for nu, style in zip(nus, ("-", "--", ":")):
+            ax.plot(line, continuum.optimal_radius(nu, line), style, color="#d3002d", lw=1.2,
+                    label=rf"continuum, $\nu$ = {nu:g}")
+    ax.set_xlim(0, 1.2)
+    ax.set_ylim(0, 8)
+    ax.set_xlabel(plotting.LABELS["Gamma"])
+    ax.set_ylabel(plotting.LABELS[symbol])
+    ax.legend(loc="upper left")
 
 
 def main(summary_path, fits_path, size_paths, outputs):
@@ -138,30 +168,39 @@ def main(summary_path, fits_path, size_paths, outputs):
     parts = [load_npz(p) for p in size_paths]
     sizes = {k: np.concatenate([s[k] for s in parts]) for k in
              ("width_relative", "radius_relative", "width_relative_capped", "radius_relative_capped", "Gamma_max",
-              "ell", "nu")}
+              "ell", "nu", "width", "radius", "width_capped", "radius_capped")}
     sizes["Gamma_relative"] = parts[0]["Gamma_relative"]
-    fig = plotting.figure(17.8, 17.5)
-    grid = fig.add_gridspec(3, 4, height_ratios=[1.25, 1.1, 1], hspace=0.9, wspace=0.6)
-    # Top row: the particle drawing wide enough that its nine labels stand clear of its lines.
-    top = grid[0, :].subgridspec(1, 3, width_ratios=[1.35, 2, 1.1], wspace=0.35)
-    ax = fig.add_subplot(top[0])
+    sizes["Gamma"] = parts[0]["Gamma"]
+    width, height = plotting.PAGE_WIDTH_CM, 22.5
+    fig = plotting.figure(width, height)
+
+    def rect(left, bottom, w, h):
+        return [left / width, bottom / height, w / width, h / height]
+
+    ax = fig.add_axes(rect(0.2, 17.6, 4.2, 4.4))
     draw_distances(ax)
-    plotting.panel_label(ax, "a")
-    strip = fig.add_subplot(top[1])
-    profile = fig.add_subplot(top[2])
+    plotting.panel_label(ax, "a", at_cm=(0.1, height - 0.1))
+    strip = fig.add_axes(rect(4.8, 17.4, 5.6, 4.6))
+    profile = fig.add_axes(rect(12.0, 18.0, 5.5, 3.9))
     draw_profile(fig, strip, profile, fits)
-    plotting.panel_label(strip, "b")
-    ax = fig.add_subplot(grid[1, 0:2])
+    plotting.panel_label(strip, "b", at_cm=(4.8, height - 0.1))
+
+    ax = fig.add_axes(rect(1.4, 12.0, 4.4, 4.4))
     draw_ell(ax, summary)
     plotting.panel_label(ax, "c")
-    ax.texts[-1].set_y(1.07)  # clear of the top tick label
-    draw_fit_check(fig.add_subplot(grid[1, 2:4]), fits)
-    ax_w, ax_r = fig.add_subplot(grid[2, 0:2]), fig.add_subplot(grid[2, 2:4])
+    draw_fit_check(fig.add_axes(rect(10.4, 12.0, 4.4, 4.4)), fits)
+
+    ax_w, ax_r = fig.add_axes(rect(1.4, 6.6, 6.6, 4.0)), fig.add_axes(rect(10.4, 6.6, 6.6, 4.0))
+    draw_sizes_over_ell(ax_w, sizes, "fiber")
+    draw_sizes_over_ell(ax_r, sizes, "disk")
+    ax_w.set_title(f"best fibre, {len(sizes['ell'])} random particles")
+    ax_r.set_title("best disk")
+    plotting.panel_label(ax_w, "d")
+
+    ax_w, ax_r = fig.add_axes(rect(1.4, 0.9, 6.6, 3.9)), fig.add_axes(rect(10.4, 0.9, 6.6, 3.9))
     draw_size_ratios(ax_w, sizes, "fiber")
     draw_size_ratios(ax_r, sizes, "disk")
-    ax_w.set_title(f"best fibre, {len(sizes['ell'])} random particles", fontsize=7, pad=28)
-    ax_r.set_title("best disk", fontsize=7, pad=28)
-    plotting.panel_label(ax_w, "d")
+    plotting.panel_label(ax_w, "e", dy_pt=16)
     plotting.save(fig, outputs)
 
 

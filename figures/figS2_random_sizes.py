@@ -13,7 +13,7 @@ def main(size_paths, outputs):
     d = {k: np.concatenate([s[k] for s in parts]) for k in
          ("width_relative", "radius_relative", "width_relative_capped", "radius_relative_capped", "ell")}
     x = parts[0]["Gamma_relative"]
-    fig = plotting.figure(17.8, 7.0)
+    fig = plotting.figure(plotting.PAGE_WIDTH_CM, 7.0)
     for col, (key, symbol, kind) in enumerate((("width_relative", "W", "fiber"), ("radius_relative", "R", "disk"))):
         ax = fig.add_subplot(1, 2, col + 1)
         for row, capped in zip(d[key], d[f"{key}_capped"]):
@@ -21,14 +21,15 @@ def main(size_paths, outputs):
             ax.step(x[:-1], free[:-1], where="mid", lw=0.5, alpha=0.4, color=plotting.PHASE_COLORS[kind])
             ax.plot(x[:-1][capped[:-1]], row[:-1][capped[:-1]], ".", ms=1.5, color="0.6")
         share = d[f"{key}_capped"][:, 1:-1].mean()
-        ax.text(0.98, 0.97, f"grey: at the catalogue's largest {'fibre' if kind == 'fiber' else 'disk'} "
-                f"({100 * share:.0f} % of points)", transform=ax.transAxes, ha="right", va="top", fontsize=6)
+        name = "fibre" if kind == "fiber" else "disk"
         ax.set_xlim(0, 1)
         ax.set_ylim(0, None)
         ax.set_xlabel(r"$\Gamma/\Gamma_\mathrm{max}$")
-        ax.set_ylabel(rf"${symbol}^*$ (particle spacings)")
-        ax.set_title(f"best {'fibre' if kind == 'fiber' else 'disk'}, {len(d['ell'])} random particles", fontsize=8)
-    fig.tight_layout()
+        ax.set_ylabel(rf"${symbol}^*$ ({plotting.LENGTH_UNIT})")
+        ax.set_title(f"best {name}, {len(d['ell'])} random particles\n"
+                     f"grey: at the catalogue's largest {name} ({100 * share:.0f} % of points)")
+        plotting.panel_label(ax, "ab"[col])
+    fig.tight_layout(h_pad=0, w_pad=2)
     plotting.save(fig, outputs)
 
 

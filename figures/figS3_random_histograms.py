@@ -11,7 +11,7 @@ from pyfrustrate.io import load_npz, logging_to
 
 def main(summary_path, selection_path, edges, outputs):
     s, sel = load_npz(summary_path), load_npz(selection_path)
-    fig = plotting.figure(17.8, 7.5)
+    fig = plotting.figure(plotting.PAGE_WIDTH_CM, 6.5)
     ax = fig.add_subplot(1, 2, 1)
     e = s["ell_edges"]
     ax.stairs(s["ell_density"], e, color="k")
@@ -20,7 +20,7 @@ def main(summary_path, selection_path, edges, outputs):
         ax.axvline(edge, color="0.6", lw=0.6, ls=":")
     ax.set_xlabel(r"boundary-layer length $\ell$")
     ax.set_ylabel("probability density")
-    ax.set_title(f"{int(s['draws']):,} random matrices", fontsize=8)
+    ax.set_title(f"{int(s['draws']):,} random matrices")
     plotting.panel_label(ax, "a")
     ax = fig.add_subplot(1, 2, 2)
     colors = ["#1b9e77", "#d95f02", "#7570b3", "#e7298a"]
@@ -29,15 +29,14 @@ def main(summary_path, selection_path, edges, outputs):
         nu = sel[f"group{i}_nu"]
         hi = "\\infty" if edges[i + 1] > 1e6 else f"{edges[i + 1]:g}"
         ax.stairs(s[f"group{i}_nu_density"], s["nu_edges"], color=colors[i % 4], lw=0.8, alpha=0.8,
-                  label=rf"$\ell\in[{edges[i]:g},{hi})$: all ({100 * float(s[f'group{i}_fraction']):.2g} % of draws)")
+                  label=rf"$\ell\in[{edges[i]:g},{hi})$: all, {100 * float(s[f'group{i}_fraction']):.2g} % of draws")
         ax.hist(nu, bins, density=True, histtype="step", color=colors[i % 4], lw=1.4, ls="--",
-                label=f"selected: {len(nu)}")
+                label=f"    selected: {len(nu)} particles")
     ax.set_xlabel(r"Poisson ratio $\nu$")
     ax.set_ylabel("probability density")
-    ax.legend(frameon=False, fontsize=6, ncol=3, loc="upper center", bbox_to_anchor=(0.4, -0.3))
+    ax.legend(ncol=1, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     plotting.panel_label(ax, "b")
-    fig.tight_layout()
-    fig.subplots_adjust(bottom=0.32)
+    fig.subplots_adjust(left=0.07, right=0.66, bottom=0.17, top=0.9, wspace=0.3)
     plotting.save(fig, outputs)
 
 

@@ -11,7 +11,7 @@ from matplotlib.colors import Normalize
 
 from pyfrustrate import plotting
 from pyfrustrate.io import load_npz, logging_to
-from pyfrustrate.montecarlo import clusters, draw_snapshot
+from pyfrustrate.montecarlo import clusters
 from pyfrustrate.topology import site_positions
 
 TILING = "triangle"
@@ -53,115 +53,143 @@ def draw_springs(ax, corners, springs, kinds, linewidth=1.0, nodes=True, markers
     ax.axis("off")
 
 
-def panel_particle(fig, d):
+WIDTH_CM, HEIGHT_CM = plotting.PAGE_WIDTH_CM, 22.6
+SNAPSHOT_CM, CATALOGUE_HALF_WINDOW = 2.2, 5.0
+
+
+def rect(left, bottom, w, h):
+    """An axes rectangle from cm on the page."""
+    return [left / WIDTH_CM, bottom / HEIGHT_CM, w / WIDTH_CM, h / HEIGHT_CM]
+
+
+def letter(fig, ax, label, x_cm, top_cm):
+    plotting.panel_label(ax, label, at_cm=(x_cm, top_cm))
+
+
+def panel_particle(fig, d, top):
     springs, kinds = d["springs"], d["spring_kinds"]
-    ax = fig.add_axes([0.03, 0.76, 0.13, 0.18])
+    ax = fig.add_axes(rect(0.3, top - 3.6, 2.3, 2.9))
     draw_springs(ax, d["single_corners"], springs, kinds, linewidth=1.4, markersize=18)
-    plotting.panel_label(ax, "a")
-    ax.set_title("one particle", fontsize=7)
-    ax = fig.add_axes([0.17, 0.76, 0.15, 0.18])
+    ax.set_title("one particle")
+    letter(fig, ax, "a", 0.1, top)
+    ax = fig.add_axes(rect(2.8, top - 3.6, 2.6, 2.9))
     draw_springs(ax, d["pair_corners"], springs, kinds, linewidth=1.0, markersize=12)
-    ax.set_title(f"bound pair: {float(d['pair_per_particle']):.4f}\nbulk energy per particle", fontsize=7)
+    ax.set_title("bound pair")
+    ax.text(0.5, -0.04, f"{float(d['pair_per_particle']):.4f} bulk energy\nper particle", transform=ax.transAxes,
+            ha="center", va="top", fontsize=6.5)
 
 
-def panel_aggregates(fig, d, norm):
-    ax = fig.add_axes([0.35, 0.76, 0.15, 0.2])
+def panel_aggregates(fig, d, norm, top):
+    ax = fig.add_axes(rect(6.0, top - 3.9, 2.9, 3.2))
     polys = draw_triangles(ax, d["disk_R3_corners"], d["disk_R3_energy"], norm)
-    plotting.panel_label(ax, "b")
-    ax.set_title("disk R = 3", fontsize=7)
-    ax = fig.add_axes([0.51, 0.76, 0.2, 0.2])
+    ax.set_title("disk, $R$ = 3")
+    letter(fig, ax, "b", 5.8, top)
+    ax = fig.add_axes(rect(9.1, top - 3.9, 3.0, 3.2))
     draw_triangles(ax, d["fiber_cut0_corners"], d["fiber_cut0_energy"], norm)
-    ax.set_title("fibre (flat edges), a few periods", fontsize=7)
-    cax = fig.add_axes([0.715, 0.78, 0.008, 0.16])
-    fig.colorbar(polys, cax=cax, label="energy / bulk")
-    cax.yaxis.label.set_size(6)
-    cax.tick_params(labelsize=6)
+    ax.set_title("fibre (flat edges)")
+    cax = fig.add_axes(rect(12.3, top - 3.7, 0.2, 2.8))
+    fig.colorbar(polys, cax=cax)
+    cax.set_ylabel("energy per particle\n" r"/ $e_{\rm bulk}$")
 
 
-def panel_bulk(fig, d):
-    ax = fig.add_axes([0.78, 0.76, 0.2, 0.2])
+def panel_bulk(fig, d, top):
+    ax = fig.add_axes(rect(14.3, top - 3.7, 3.3, 3.0))
     corners = np.asarray(d["bulk_corners"])
     centre = corners.reshape(-1, 2).mean(axis=0)
     keep = np.linalg.norm(corners.mean(axis=1) - centre, axis=1) < 1.6
     draw_springs(ax, corners[keep], d["springs"], d["spring_kinds"], linewidth=1.0, markersize=8)
-    ax.text(-0.12, 1.0, "(c)", transform=ax.transAxes, ha="right", va="bottom", fontweight="bold")
-    ax.set_title("bulk: yellow and red sides match\n(shared nodes; rest lengths $1 \\pm \\epsilon$)", fontsize=7)
+    ax.set_title("bulk: sides match")
+    letter(fig, ax, "c", 14.0, top)
 
 
-def panel_diagram(fig, diagram, continuum, runs):
-    ax = fig.add_axes([0.07, 0.33, 0.36, 0.33])
-    plotting.draw_ansatz_diagram(fig, ax, diagram, continuum)
+def panel_diagram(fig, diagram, continuum, runs, top):
+    ax = fig.add_axes(rect(1.3, top - 6.0, 7.4, 5.0))
+    meshes, phases = plotting.draw_ansatz_diagram(ax, diagram, continuum)
+    plotting.phase_legend(ax, sorted(set(phases) | {"gas"}, key=list(plotting.PHASE_LABELS).index),
+                          dashed_continuum=True, ncol=3, bbox_to_anchor=(0.7, 1.0))
+    plotting.size_colorbars(fig, meshes, (9.4, top - 6.0, 4.3), gap_cm=1.15)
     gas = np.asarray(diagram["gas_Gamma"])
-    ax.text(0.98, 0.03, rf"$\ell = {float(diagram['ell']):g}$", transform=ax.transAxes, fontsize=9, color="w", ha="right")
-    inset = ax.inset_axes([0.69, 0.5, 0.28, 0.3])
-    inset.semilogx(gas, diagram["nu"], color=plotting.PHASE_COLORS["gas"], lw=1.2)
-    inset.fill_betweenx(diagram["nu"], 1e-5, gas, color=plotting.PHASE_COLORS["gas"], alpha=0.6)
+    ax.text(0.98, 0.03, rf"$\ell$ = {float(diagram['ell']):g}", transform=ax.transAxes, color="w", ha="right")
+    inset = fig.add_axes(rect(12.2, top - 6.0, 3.6, 4.3))
+    inset.semilogx(gas, diagram["nu"], color="k", lw=1.0)
+    inset.fill_betweenx(diagram["nu"], 1e-5, gas, color=plotting.PHASE_COLORS["gas"])
     inset.set_xlim(1e-4, 1e-1)
     inset.set_ylim(0, 1)
-    inset.set_xlabel(r"$\Gamma$ (log)", fontsize=5, labelpad=1)
-    inset.set_ylabel(r"$\nu$", fontsize=5, labelpad=1)
-    inset.tick_params(labelsize=5, pad=1)
-    inset.set_title("single particles win (grey)", fontsize=5, pad=2)
-    inset.patch.set_alpha(0.9)
+    inset.set_xlabel(r"$\Gamma$ (logarithmic)")
+    inset.set_ylabel(plotting.LABELS["nu"])
+    inset.set_title("single particles win (grey)")
+    G_max = float(np.max(diagram["Gamma"]))
     for k, r in enumerate(runs, start=1):
-        point = (float(r["Gamma"]), float(r["nu"]))
-        ax.plot(*point, "s", ms=6, mfc="w", mec="k", mew=0.7, zorder=6)
-        ax.annotate(str(k), point, xytext=(4, 4), textcoords="offset points", fontsize=6, zorder=7)
-    ax.text(-0.14, 1.0, "(d)", transform=ax.transAxes, ha="right", va="bottom", fontweight="bold")
+        point = (min(float(r["Gamma"]), G_max), float(r["nu"]))
+        target = inset if float(r["Gamma"]) < 0.01 else ax
+        target.plot(*point, "s", ms=5, mfc="w", mec="k", mew=0.7, zorder=6, clip_on=False)
+        target.annotate(str(k), point, xytext=(4, 3), textcoords="offset points", fontsize=7, zorder=7,
+                        color="w" if target is ax else "k")
+    letter(fig, ax, "d", 0.1, top)
 
 
-def panel_snapshots(fig, runs):
-    cols, rows = 4, 2
-    width, height = 0.52 / cols, 0.34 / rows
+def panel_snapshots(fig, runs, top):
+    cols = 4
+    panel_w, panel_h = WIDTH_CM / cols, SNAPSHOT_CM
     for k, r in enumerate(runs, start=1):
         i, j = divmod(k - 1, cols)
-        sub = fig.add_axes([0.5 + j * width * 0.93, 0.66 - (i + 1) * height, width * 0.9, height * 0.84])
+        sub = fig.add_axes(rect(j * panel_w + 0.1, top - (i + 1) * (panel_h + 0.55), panel_w - 0.2, panel_h))
         box = int(r["box"])
-        draw_snapshot(r["sites"], box, ax=sub, tiling=TILING)
+        plotting.draw_snapshot(r["sites"], box, ax=sub, tiling=TILING)
         coords, _ = clusters(r["sites"], box, TILING)[0]
         coords = coords.copy()
         coords[:, :2] -= np.floor(coords[:, :2].mean(axis=0) / box).astype(int) * box
         xy = site_positions(coords, TILING)
         c = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
+        aspect = panel_h / (panel_w - 0.2)
         half = max(12.0, 0.5 * np.ptp(xy, axis=0).max() + 2)
         sub.set_xlim(c[0] - half, c[0] + half)
-        sub.set_ylim(c[1] - 0.8 * half, c[1] + 0.8 * half)
-        sub.set_title(rf"{k}: $\Gamma$={float(r['Gamma']):g}", fontsize=6)
-        if j == 0:
-            sub.text(-0.08, 0.5, rf"$\nu$={float(r['nu']):g}" + f"\n{int(r['n'])} in {box}x{box}", transform=sub.transAxes,
-                     ha="right", va="center", fontsize=6)
+        sub.set_ylim(c[1] - aspect * half, c[1] + aspect * half)
+        sub.set_axis_on()
+        sub.set_xticks([])
+        sub.set_yticks([])
+        for spine in sub.spines.values():
+            spine.set_visible(True)
+            spine.set_color("0.6")
+            spine.set_linewidth(0.4)
+        sub.set_title(rf"{k}: $\Gamma$ = {float(r['Gamma']):g}, $\nu$ = {float(r['nu']):g}", pad=2)
+        sub.text(0.03, 0.03, f"{int(r['n'])} in {plotting.box_label(box)} cells", transform=sub.transAxes,
+                 fontsize=6, va="bottom", bbox=dict(boxstyle="round,pad=0.15", fc="w", ec="none", alpha=0.85))
 
 
-def panel_catalogue(fig, d, norm):
+def panel_catalogue(fig, d, norm, top):
+    """The catalogue's aggregates on one length scale (CATALOGUE_HALF_WINDOW spacings each way)."""
     cols = 5
+    panel_w = WIDTH_CM / cols
     for n, (name, title) in enumerate(CATALOGUE):
         i, j = divmod(n, cols)
-        ax = fig.add_axes([0.02 + j * 0.19, 0.14 - i * 0.13, 0.17, 0.11])
+        ax = fig.add_axes(rect(j * panel_w + 0.1, top - (i + 1) * 2.5 + 0.1, panel_w - 0.2, 1.65))
         draw_triangles(ax, d[f"{name}_corners"], d[f"{name}_energy"], norm, linewidth=0.15)
-        ax.set_title(f"{title}: {float(d[f'{name}_per_particle']):.2f}", fontsize=6)
+        centre = np.asarray(d[f"{name}_corners"]).reshape(-1, 2).mean(axis=0)
+        aspect = 1.65 / (panel_w - 0.2)
+        ax.set_xlim(centre[0] - CATALOGUE_HALF_WINDOW, centre[0] + CATALOGUE_HALF_WINDOW)
+        ax.set_ylim(centre[1] - aspect * CATALOGUE_HALF_WINDOW, centre[1] + aspect * CATALOGUE_HALF_WINDOW)
+        ax.set_title(f"{title}:\n{float(d[f'{name}_per_particle']):.2f}")
         if n == 0:
-            plotting.panel_label(ax, "e")
+            letter(fig, ax, "e", 0.1, top + 0.1)
 
 
 def main(shapes_path, diagram_path, continuum_path, snapshot_paths, outputs):
     d = load_npz(shapes_path)
     diagram = load_npz(diagram_path)
     runs = sorted((load_npz(p) for p in snapshot_paths), key=lambda r: (-float(r["nu"]), float(r["Gamma"])))
-    fig = plotting.figure(17.8, 21.0)
+    fig = plotting.figure(WIDTH_CM, HEIGHT_CM)
     norm = Normalize(0, 1.1)
-    panel_particle(fig, d)
-    panel_aggregates(fig, d, norm)
-    panel_bulk(fig, d)
-    panel_diagram(fig, diagram, load_npz(continuum_path), runs)
-    panel_snapshots(fig, runs)
-    panel_catalogue(fig, d, norm)
-    sizes = sorted({(int(r["n"]), int(r["box"])) for r in runs})
-    fig.text(0.02, -0.01,
-             "(b, c, e) relaxed at " + rf"$\ell={float(d['ell']):g}$, $\nu={float(d['nu']):g}$, "
-             rf"$\epsilon={float(d['eps']):g}$ (exaggerated); titles in (e): energy per particle over the bulk's. "
-             "(d) Monte Carlo: " + "; ".join(f"{n} particles in {b} x {b} cells ({2 * b * b} triangle sites)"
-                                             for n, b in sizes) + ".",
-             fontsize=6, va="top")
+    top = HEIGHT_CM - 0.1
+    panel_particle(fig, d, top)
+    panel_aggregates(fig, d, norm, top)
+    panel_bulk(fig, d, top)
+    top -= 4.6
+    panel_diagram(fig, diagram, load_npz(continuum_path), runs, top)
+    top -= 6.9
+    panel_snapshots(fig, runs, top)
+    top -= 2 * (SNAPSHOT_CM + 0.55) + 0.2
+    panel_catalogue(fig, d, norm, top)
     plotting.save(fig, outputs)
 
 

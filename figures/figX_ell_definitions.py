@@ -25,15 +25,15 @@ PAPER_THRESHOLD, PAPER_FRACTION = 1.5, 1.25e5 / 3e7
 def style(name):
     """Colour, line style and legend label of a definition."""
     if name == "slowest":
-        return "k", "-", "(a) slowest mode (default)"
+        return "k", "-", "slowest mode (default)"
     if name.startswith("excited_share"):
         share = float(name[len("excited_share"):])
-        return ("#7b3294", "--", f"(b) excited, share $\\geq$ {share:g}") if share < 0.3 else \
-            ("#c2a5cf", "-.", f"(b) excited, share $\\geq$ {share:g}")
+        return ("#7b3294", "--", f"excited mode, share $\\geq$ {share:g}") if share < 0.3 else \
+            ("#c2a5cf", "-.", f"excited mode, share $\\geq$ {share:g}")
     depth, reference = name[len("finite_depth"):].split("_")
     shade = {"10": 0.35, "20": 0.6, "40": 0.85}.get(depth, 0.6)
     cmap = plotting.plt.get_cmap("Blues" if reference == "centre" else "Oranges")
-    return cmap(shade), "-" if reference == "centre" else ":", f"(c) depth {depth}, vs {reference}"
+    return cmap(shade), "-" if reference == "centre" else ":", f"slab fit, depth {depth}, vs {reference}"
 
 
 def main(study_path, table_path, ell_groups, outputs):
@@ -41,7 +41,7 @@ def main(study_path, table_path, ell_groups, outputs):
     names = definition_names(study)
     n = len(study["slowest"])
     fig = plotting.figure(17.8, 7.2)
-    ax = fig.add_axes([0.065, 0.17, 0.27, 0.73])
+    ax = fig.add_axes([0.065, 0.17, 0.245, 0.73])
     x = np.linspace(0.2, 6, 300)
     for name in names:
         ell = np.asarray(study[name])
@@ -54,14 +54,14 @@ def main(study_path, table_path, ell_groups, outputs):
     ax.set_yscale("log")
     ax.set_ylim(max(0.3 / n, 1e-5), 1.05)
     ax.set_xlim(x[0], x[-1])
-    ax.set_xlabel(r"boundary-layer length $x$ (lattice spacings)")
+    ax.set_xlabel(rf"boundary-layer length $x$ ({plotting.LENGTH_UNIT})")
     ax.set_ylabel(r"$P(\ell \geq x)$")
-    ax.set_title(f"{n:,} random particles", fontsize=8)
-    ax.legend(frameon=False, fontsize=6, loc="lower left")
-    ax.text(0.97, 0.97, "line styles: key of (b)", transform=ax.transAxes, ha="right", va="top", fontsize=6)
+    ax.set_title(f"{n:,} random particles")
+    ax.legend(loc="lower left")
+    ax.text(0.97, 0.97, "line styles: key of (b)", transform=ax.transAxes, ha="right", va="top")
     plotting.panel_label(ax, "a")
 
-    ax = fig.add_axes([0.49, 0.17, 0.225, 0.73])
+    ax = fig.add_axes([0.545, 0.17, 0.2, 0.73])
     rows = np.arange(len(names))[::-1]
     for row, name in zip(rows, names):
         color, _, _ = style(name)
@@ -70,15 +70,15 @@ def main(study_path, table_path, ell_groups, outputs):
         ax.plot(entry["median_ratio"], row, "o", color=color, ms=4)
         ax.plot([1.12, 1.38], [row, row], color=color, ls=style(name)[1], lw=1.2)  # the key of (a) and (c)
     ax.axvline(1.0, color="#d3002d", lw=1.0)
-    ax.text(0.98, rows[0] + 0.55, "paper: > 1", color="#d3002d", fontsize=6, va="bottom", ha="right")
-    ax.set_yticks(rows, [style(nm)[2] for nm in names], fontsize=6)
+    ax.text(0.98, rows[0] + 0.55, "paper: > 1", color="#d3002d", va="bottom", ha="right")
+    ax.set_yticks(rows, [style(nm)[2] for nm in names])
     ax.set_xticks([0, 0.5, 1.0])
     ax.set_xlim(0, 1.42)
     ax.set_ylim(-0.7, len(names) - 0.1)
     ax.set_xlabel(r"median $\ell^{\rm pred}/\ell$ (dots)" "\n" r"$P(\ell^{\rm pred} > \ell)$ (bars)")
     plotting.panel_label(ax, "b")
 
-    ax = fig.add_axes([0.825, 0.17, 0.165, 0.73])
+    ax = fig.add_axes([0.82, 0.2, 0.16, 0.7])
     labels = []
     for g in range(len(ell_groups) - 1):
         hi = "\\infty" if ell_groups[g + 1] > 1e6 else f"{ell_groups[g + 1]:g}"

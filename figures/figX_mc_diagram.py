@@ -9,6 +9,8 @@ aggregate of the same n is elongated (ansatz.finite_aggregates), and a hollow ma
 ended more than EQUILIBRATED_GAP bulk particle energies above the box's predicted ground state
 (the best of ground_states.box_candidates: single aggregates, a fibre wrapping the box, several
 aggregates, the gas), i.e. not equilibrated; the gaps are in the log of montecarlo_diagram."""
+import textwrap
+
 import numpy as np
 from matplotlib.lines import Line2D
 
@@ -77,46 +79,52 @@ def protocol(mc, n):
     taken = sorted(set(rounds[rounds > 0].tolist()))
     where = "" if rounds.all() else f", at Γ ≥ {np.min(mc['Gamma'][rounds > 0]):g},"
     return (f"Annealing runs of {n} particles, then{where} {'/'.join(map(str, taken))} rounds of replica exchange "
-            "at low temperature from the final state")
+            "at low temperature")
 
 
 def main(mc_path, diagram_path, continuum_path, outputs):
     mc = load_npz(mc_path)
     n = int(mc["n"][0])
-    fig = plotting.figure(17.8, 11.0)
-    ax = fig.add_axes([0.07, 0.12, 0.68, 0.74])
-    plotting.draw_ansatz_diagram(fig, ax, load_npz(diagram_path), load_npz(continuum_path))
+    width, height = plotting.PAGE_WIDTH_CM, 10.5
+    fig = plotting.figure(width, height)
+    ax = fig.add_axes([1.3 / width, 1.0 / height, 9.6 / width, 7.9 / height])
+    _, phases = plotting.draw_ansatz_diagram(ax, load_npz(diagram_path), load_npz(continuum_path))
+    plotting.phase_legend(ax, phases, dashed_continuum=True, ncol=5, title="ansatz diagram (pale)")
     for mesh in ax.collections:
         mesh.set_alpha(0.35)
     draw_elongated_bands(ax, mc)
-    for nu, G, kind, size, gap in zip(mc["nu"], mc["Gamma"], mc["kind"], mc["size"], mc["gap_ground"]):
+    # A run the classifier calls a fibre (elongated) where the best single aggregate of as many
+    # particles is compact: two or more disks fused into one cluster read as a fibre (the
+    # classifier sees only the gyration anisotropy; tests/test_figures.py).
+    elongated_not_fibre = (mc["kind"] == "fiber") & (mc["single_kind"] != "fiber")
+    for nu, G, kind, size, gap, flag in zip(mc["nu"], mc["Gamma"], mc["kind"], mc["size"], mc["gap_ground"],
+                                            elongated_not_fibre):
         color = plotting.PHASE_COLORS.get(str(kind), "0.5")
         stuck = gap > EQUILIBRATED_GAP
-        ax.plot(G, nu, MARKERS[str(kind)], ms=8, mfc="w" if stuck else color, mec=color if stuck else "k",
+        ax.plot(G, nu, MARKERS[str(kind)], ms=7, mfc="w" if stuck else color, mec=color if stuck else "k",
                 mew=1.4 if stuck else 0.8, zorder=6)
-        ax.annotate(f"{size}", (G, nu), xytext=(5, -9), textcoords="offset points", fontsize=5.5, zorder=7)
-    handles = [Line2D([], [], marker=m, ls="", mfc=plotting.PHASE_COLORS.get(k, "0.5"), mec="k", label=plotting.PHASE_LABELS.get(k, k))
-               for k, m in MARKERS.items()]
+        ax.annotate(f"{size}" + ("*" if flag else ""), (G, nu), xytext=(5, -9), textcoords="offset points",
+                    fontsize=6, zorder=7)
+    handles = [Line2D([], [], marker=m, ls="", mfc=plotting.PHASE_COLORS.get(k, "0.5"), mec="k",
+                      label=plotting.PHASE_LABELS.get(k, k)) for k, m in MARKERS.items()]
     handles.append(Line2D([], [], marker="o", ls="", mfc="w", mec="0.3", mew=1.4,
-                          label=f"ended > {EQUILIBRATED_GAP:g} bulk\nparticle energies above\nthe box's ground state"))
+                          label=f"ended > {EQUILIBRATED_GAP:g} bulk particle\nenergies above the box's\n"
+                                "predicted ground state"))
     handles.append(Line2D([], [], color=plotting.PHASE_COLORS["fiber"], lw=7, alpha=0.45,
-                          label=f"best single aggregate\nof {n} is elongated"))
-    fig.legend(handles=handles, loc="center right", title="Monte Carlo\n(largest aggregate)", fontsize=6.5,
-               title_fontsize=7, frameon=False, labelspacing=0.9)
+                          label=f"best single aggregate\nof {n} particles is elongated"))
+    if elongated_not_fibre.any():
+        handles.append(Line2D([], [], ls="", marker="$*$", color="k",
+                              label=f"elongated, but the best single\naggregate of {n} is compact\n(e.g. fused disks)"))
+    fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(11.6 / width, 8.9 / height),
+               title="Monte Carlo runs:\nlargest final aggregate", alignment="left", labelspacing=0.8)
     within = int((mc["gap_ground"] <= EQUILIBRATED_GAP).sum())
     same = int((mc["structure"] == mc["ground_family"]).sum())
-    lines = [
-        f"{within} of {len(mc['gap_ground'])} runs end within {EQUILIBRATED_GAP:g} bulk particle energies of the box's "
-        "predicted ground state (best of single aggregates, a wrapping fibre,",
-        f"several aggregates, the gas); {same} end in that ground state's structure (read from their clusters: "
-        "ground_states.structure).",
-        f"{protocol(mc, n)}; numbers: size of the largest aggregate.",
-        "A box this small holds neither a bulk nor a fibre wider than it is long: compare the runs with the band "
-        "(the best single aggregate",
-        "of the same particles), not only with the infinite-system diagram.",
-    ]
-    lines += hollow_markers_explained(mc, n)
-    fig.text(0.07, 0.03, "\n".join(lines), fontsize=6, va="top")  # below the axis label, however many lines
+    summary = (f"{within} of {len(mc['gap_ground'])} runs end within {EQUILIBRATED_GAP:g} bulk particle energies of "
+               f"their box's predicted ground state; {same} in its structure. {protocol(mc, n)}. Numbers: size of "
+               "the largest aggregate.")
+    fig.text(11.6 / width, 0.3 / height, textwrap.fill(summary, 44), va="bottom")
+    for line in hollow_markers_explained(mc, n):  # the runs above the criterion, read from their clusters
+        print(line)
     plotting.save(fig, outputs)
 
 

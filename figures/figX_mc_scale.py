@@ -15,11 +15,12 @@ import numpy as np
 from pyfrustrate import plotting
 from pyfrustrate.ground_states import EQUILIBRATED_GAP
 from pyfrustrate.io import load_npz, logging_to
-from pyfrustrate.montecarlo import draw_snapshot, largest_cluster_extent
+from pyfrustrate.montecarlo import largest_cluster_extent
 
 SCANS = {"fibre": ("Gamma", r"$\Gamma$", "fibre scan"), "disk": ("Gamma", r"$\Gamma$", "disk scan"),
          "nu": ("nu", r"$\nu$", "$\\nu$ scan")}
 SEED_MARKERS = "osD^v<>p"
+WITHIN, ABOVE = "#1b9e77", "#d95f02"  # runs within the criterion and above it (no phase colour)
 
 
 def rows_of(scale, nu, Gamma):
@@ -35,11 +36,11 @@ def main(scale_path, run_paths, points, outputs):
     seeds = sorted({int(s) for s in scale["seed"]})
     n, box = int(scale["n"][0]), int(next(iter(runs.values()))["box"])
     scans = [s for s in SCANS if any(p[0] == s for p in points)]
-    fig = plotting.figure(17.8, 12.0)
-    top, width = 0.58, 0.25
+    fig = plotting.figure(plotting.PAGE_WIDTH_CM, 10.5)
+    top, width = 0.55, 0.25
     for i, scan in enumerate(scans):
         variable, label, title = SCANS[scan]
-        ax = fig.add_axes([0.08 + i * 0.32, top, width, 0.34])
+        ax = fig.add_axes([0.08 + i * 0.32, top, width, 0.37])
         ax.axhspan(-1e9, EQUILIBRATED_GAP, color="0.88", zorder=0)
         ax.axhline(0, color="0.5", lw=0.6, zorder=1)
         xs, highest = [], EQUILIBRATED_GAP
@@ -52,25 +53,26 @@ def main(scale_path, run_paths, points, outputs):
                 gap = float(scale["gap_ground"][k])
                 same = str(scale["structure"][k]) == str(scale["ground_family"][k])
                 m = SEED_MARKERS[seeds.index(int(scale["seed"][k])) % len(SEED_MARKERS)]
-                color = "C0" if gap <= EQUILIBRATED_GAP else "C3"
+                color = WITHIN if gap <= EQUILIBRATED_GAP else ABOVE
                 ax.plot(x, gap, m, ms=5, mfc=color if same else "w", mec=color, mew=1.1, zorder=3)
                 highest = max(highest, gap)
             ground = [str(scale["ground_family"][k]) for k in rows_of(scale, nu, G)][:1]
             if ground:
-                ax.annotate(ground[0].replace("wrapping_fiber", "wrap").replace("aggregates", "agg"), (x, 0),
-                            xytext=(0, -10), textcoords="offset points", ha="center", fontsize=5, color="0.35")
+                ax.annotate(plotting.structure_label(ground[0]).replace(" ", "\n", 1), (x, 0),
+                            xytext=(0, -4), textcoords="offset points", ha="center", va="top", fontsize=6,
+                            color="0.35")
         ax.set_xlim(min(xs) - 0.12 * (max(xs) - min(xs) + 0.1), max(xs) + 0.12 * (max(xs) - min(xs) + 0.1))
-        ax.set_ylim(-0.12 * highest - 3, 1.12 * highest)
+        ax.set_ylim(-0.3 * highest - 3, 1.12 * highest)
         ax.set_xlabel(label)
         ax.set_ylabel(r"$E - E_\mathrm{ground}$ ($e_b$)" if i == 0 else "")
         in_scan = [k for _, nu, G in (p for p in points if p[0] == scan) for k in rows_of(scale, nu, G)]
         within = int((scale["gap_ground"][in_scan] <= EQUILIBRATED_GAP).sum())
-        ax.set_title(f"{title}, {fixed}: {within}/{len(in_scan)} within {EQUILIBRATED_GAP:g}", fontsize=7)
+        ax.set_title(f"{title}, {fixed}: {within} of {len(in_scan)} within {EQUILIBRATED_GAP:g}")
         plotting.panel_label(ax, "abc"[i])
         if i == 0 and len(seeds) > 1:
             for s, seed in enumerate(seeds):
                 ax.plot([], [], SEED_MARKERS[s % len(SEED_MARKERS)], ms=4, mfc="w", mec="0.3", label=f"seed {seed}")
-            ax.legend(loc="upper left", fontsize=5.5, frameon=False, handletextpad=0.2)
+            ax.legend(loc="upper left", handletextpad=0.2)
     # Snapshots of the first seed at each distinct point (the scans share some), each centred on
     # its largest cluster, all on one scale (the largest extent of any of them).
     scans_at = {}
@@ -82,22 +84,15 @@ def main(scale_path, run_paths, points, outputs):
     half = max(0.5 * max(x1 - x0, y1 - y0) for (x0, y0), (x1, y1) in extents) + 2.0
     width = 0.92 / max(len(shown), 1)
     for j, ((scans, nu, G, run), ((x0, y0), (x1, y1))) in enumerate(zip(shown, extents)):
-        ax = fig.add_axes([0.04 + j * width, 0.07, width * 0.96, 0.36])
-        draw_snapshot(run["sites"], box, ax=ax)
+        ax = fig.add_axes([0.04 + j * width, 0.02, width * 0.96, 0.33])
+        plotting.draw_snapshot(run["sites"], box, ax=ax)
         ax.set_xlim(0.5 * (x0 + x1) - half, 0.5 * (x0 + x1) + half)
         ax.set_ylim(0.5 * (y0 + y1) - half, 0.5 * (y0 + y1) + half)
         ax.set_xticks([])
         ax.set_yticks([])
         k = rows_of(scale, nu, G)[0]
-        ax.set_title(f"{' + '.join(SCANS[scan][2] for scan in scans)}\n$\\nu$={nu:g}, $\\Gamma$={G:g}\n"
-                     f"{float(scale['gap_ground'][k]):+.1f} $e_b$", fontsize=5.5)
-    total = len(scale["gap_ground"])
-    within = int((scale["gap_ground"] <= EQUILIBRATED_GAP).sum())
-    same = int((scale["structure"] == scale["ground_family"]).sum())
-    fig.text(0.04, 0.005,
-             f"{n} particles in {box} x {box}, seeds {', '.join(map(str, seeds))}: {within} of {total} runs end within "
-             f"{EQUILIBRATED_GAP:g} bulk particle energies of their box's predicted ground state, {same} in its structure "
-             f"(filled markers). Grey labels: the ground state's family. Snapshots: seed {seeds[0]}.", fontsize=6)
+        ax.set_title(f"$\\nu$ = {nu:g}, $\\Gamma$ = {G:g}\n"
+                     f"{float(scale['gap_ground'][k]):+.1f} $e_b$", fontsize=7)
     plotting.save(fig, outputs)
 
 

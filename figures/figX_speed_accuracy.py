@@ -12,7 +12,9 @@ from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter
 from pyfrustrate import plotting
 from pyfrustrate.io import logging_to
 
-STYLES = {"linear": ("k", "s"), "lbfgs": ("#007e94", "o"), "lbfgs warm": ("#7b3294", "^"), "newton": ("#d3002d", "D")}
+# Colour, marker and legend label of each method (colours apart from the phase colours).
+STYLES = {"linear": ("k", "s", "linear solve"), "lbfgs": ("#1b9e77", "o", "L-BFGS from the bulk"),
+          "lbfgs warm": ("#d95f02", "^", "L-BFGS from the linear solve"), "newton": ("#7570b3", "D", "Newton")}
 
 
 def family(method, start):
@@ -31,7 +33,7 @@ def main(csv_path, outputs):
         panels[(r["topology"], r["nu"], r["eps"])].append(r)
     keys = sorted(panels)
     cols = min(2, len(keys))
-    fig = plotting.figure(14.0, 5.5 * ((len(keys) + cols - 1) // cols))
+    fig = plotting.figure(plotting.PAGE_WIDTH_CM, min(plotting.MAX_HEIGHT_CM, 5.5 * ((len(keys) + cols - 1) // cols)))
     for n, key in enumerate(keys):
         ax = fig.add_subplot((len(keys) + cols - 1) // cols, cols, n + 1)
         series = defaultdict(list)
@@ -39,19 +41,19 @@ def main(csv_path, outputs):
             series[family(r["method"], r["start"])].append((float(r["t_min"]), max(float(r["rel_error"]), 1e-16)))
         for name, points in series.items():
             t, err = np.array(sorted(points, key=lambda p: -p[1])).T
-            color, marker = STYLES[name]
-            ax.loglog(1e3 * t, err, marker=marker, color=color, ms=3.5, lw=0.8, label=name)
+            color, marker, label = STYLES[name]
+            ax.loglog(1e3 * t, err, marker=marker, color=color, ms=3.5, lw=0.8, label=label)
         ax.xaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
         ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
         ax.xaxis.set_minor_formatter(NullFormatter())
         ax.axhline(1e-8, color="0.7", lw=0.6, ls=":", zorder=0)
-        ax.set_title(rf"{key[0]}, $\nu$ = {key[1]}, $\epsilon$ = {key[2]}", fontsize=7)
+        ax.set_title(rf"{key[0].replace('_', ' ').replace('=', ' = ')}, $\nu$ = {key[1]}, $\epsilon$ = {key[2]}")
+        plotting.panel_label(ax, "abcdefgh"[n])
         ax.set_xlabel("time (ms)")
         if n % cols == 0:
             ax.set_ylabel("relative energy error")
-        if n == 0:
-            ax.legend(frameon=False, fontsize=6, loc="upper right")
-    fig.tight_layout()
+    fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="upper center", ncol=4)
+    fig.tight_layout(rect=(0, 0, 1, 0.93))
     plotting.save(fig, outputs)
 
 

@@ -99,8 +99,13 @@ void bind_evaluate_terms(Class& cls, const char* doc) {
         py::arg("corners"), doc);
 }
 
+// The relaxation policy's binding (bind_relax.hpp, included at the end of this file).
+template <class Model>
+void export_relax_policy(pybind11::module_& m);
+
 template <class Model>
 void export_network_functions(pybind11::module_& m) {
+    export_relax_policy<Model>(m);
     namespace py = pybind11;
     m.def(
         "energy",
@@ -222,3 +227,5 @@ void export_network_functions(pybind11::module_& m) {
 }
 
 }  // namespace pyfrustrate
+
+#include "bind_relax.hpp"

@@ -3,6 +3,7 @@
 #include <cholmod.h>
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 #include <limits>
 #include <mutex>
@@ -293,6 +294,236 @@ Eigen::VectorXd CholeskyFactor::solve(const Eigen::VectorXd& b) const {
     Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(x->x), n);
     cholmod_free_dense(&x, c);
     return out;
+}
+
+}  // namespace pyfrustrate
+
+namespace pyfrustrate {
+
+namespace {
+cholmod_factor* factor_of(void* p) { return static_cast<cholmod_factor*>(p); }
+
+cholmod_common* start_common() {
+    auto* c = new cholmod_common;
+    cholmod_start(c);
+    c->print = 0;
+    c->error_handler = nullptr;
+    // Natural order (the caller's rows are already in elimination order), simplicial LDL^T: the
+    // form CHOLMOD's Modify routines work on.
+    c->nmethods = 1;
+    c->method[0].ordering = CHOLMOD_NATURAL;
+    c->postorder = 0;
+    c->supernodal = CHOLMOD_SIMPLICIAL;
+    c->final_ll = 0;
+    // Room left in each column when the factor is unpacked (grow1 * nz + grow2 entries) and by
+    // how much the whole grows when a column outgrows it (grow0).
+    c->grow1 = 1.0;
+    c->grow2 = 16;
+    c->grow0 = 1.5;
+    return c;
+}
+
+void finish_common(cholmod_common* c) {
+    cholmod_finish(c);
+    delete c;
+}
+}  // namespace
+
+std::unique_ptr<ModifiableFactor> ModifiableFactor::make(int n, const std::vector<int>& column_start,
+                                                         const std::vector<int>& row, const std::vector<double>& values,
+                                                         int spare, std::vector<int>& row_of_dof) {
+    if (n < 1 || spare < 0) throw std::invalid_argument("modifiable factor: empty matrix or negative spare");
+    if (static_cast<int>(column_start.size()) != n + 1 || column_start.back() != static_cast<int>(row.size()) ||
+        values.size() != row.size())
+        throw std::invalid_argument("modifiable factor: inconsistent compressed-column pattern");
+    std::unique_ptr<ModifiableFactor> f(new ModifiableFactor);
+    cholmod_common* c = start_common();
+    f->common_ = c;
+    f->n_ = n + spare;
+    SerialOpenMP serial;
+    // The fill-reducing order of the matrix itself (AMD), spare rows after it.
+    cholmod_sparse pattern_view;
+    pattern_view.nrow = pattern_view.ncol = n;
+    pattern_view.nzmax = row.size();
+    pattern_view.p = const_cast<int*>(column_start.data());
+    pattern_view.i = const_cast<int*>(row.data());
+    pattern_view.nz = nullptr;
+    pattern_view.x = const_cast<double*>(values.data());
+    pattern_view.z = nullptr;
+    pattern_view.stype = 1;
+    pattern_view.itype = CHOLMOD_INT;
+    pattern_view.xtype = CHOLMOD_REAL;
+    pattern_view.dtype = CHOLMOD_DOUBLE;
+    pattern_view.sorted = 1;
+    pattern_view.packed = 1;
+    std::vector<int> perm(n);
+    if (!cholmod_amd(&pattern_view, nullptr, 0, perm.data(), c)) return nullptr;
+    row_of_dof.assign(n, 0);
+    for (int k = 0; k < n; ++k) row_of_dof[perm[k]] = k;
+    cholmod_triplet* t = cholmod_allocate_triplet(f->n_, f->n_, row.size() + spare, 1, CHOLMOD_REAL, c);
+    if (!t) return nullptr;
+    auto* ti = static_cast<int*>(t->i);
+    auto* tj = static_cast<int*>(t->j);
+    auto* tx = static_cast<double*>(t->x);
+    size_t k = 0;
+    for (int j = 0; j < n; ++j)
+        for (int p = column_start[j]; p < column_start[j + 1]; ++p, ++k) {
+            const int a = row_of_dof[row[p]], b = row_of_dof[j];
+            ti[k] = std::min(a, b), tj[k] = std::max(a, b), tx[k] = values[p];
+        }
+    for (int s = 0; s < spare; ++s, ++k) ti[k] = tj[k] = n + s, tx[k] = 1.0;
+    t->nnz = k;
+    cholmod_sparse* A = cholmod_triplet_to_sparse(t, k, c);
+    cholmod_free_triplet(&t, c);
+    if (!A) return nullptr;
+    cholmod_factor* L = cholmod_analyze(A, c);
+    const bool ok = L && cholmod_factorize(A, L, c) && c->status == CHOLMOD_OK && L->minor == L->n;
+    cholmod_free_sparse(&A, c);
+    f->factor_ = L;
+    // Unpacked, with room in every column for the entries rows added later bring (a row added
+    // last puts one entry in each column of its row's pattern): without it, CHOLMOD moved
+    // columns and repacked the whole factor on most row additions (a large share of a child's
+    // relaxation in a profile of the 817-particle disk).
+    if (ok && !cholmod_change_factor(CHOLMOD_REAL, /*to_ll=*/0, /*to_super=*/0, /*to_packed=*/0, /*to_monotonic=*/1, L, c))
+        return nullptr;
+    f->in_use_.assign(f->n_, 0);
+    std::fill_n(f->in_use_.begin(), n, 1);
+    if (!ok || !f->positive_definite()) return nullptr;
+    return f;
+}
+
+std::unique_ptr<ModifiableFactor> ModifiableFactor::copy() const {
+    std::unique_ptr<ModifiableFactor> f(new ModifiableFactor);
+    cholmod_common* c = start_common();
+    f->common_ = c;
+    f->n_ = n_;
+    f->in_use_ = in_use_;
+    f->factor_ = cholmod_copy_factor(factor_of(factor_), c);
+    if (!f->factor_) throw std::runtime_error("modifiable factor: CHOLMOD could not copy the factor");
+    return f;
+}
+
+ModifiableFactor::~ModifiableFactor() {
+    auto* c = common_of(common_);
+    if (!c) return;
+    auto* L = factor_of(factor_);
+    if (L) cholmod_free_factor(&L, c);
+    finish_common(c);
+}
+
+int ModifiableFactor::take_free_row() {
+    for (int k = n_ - 1; k >= 0; --k)
+        if (!in_use_[k]) {
+            in_use_[k] = 1;
+            return k;
+        }
+    return -1;
+}
+
+bool ModifiableFactor::add_row(int k, std::vector<std::pair<int, double>> column) {
+    auto* c = common_of(common_);
+    std::sort(column.begin(), column.end());
+    cholmod_sparse* R = cholmod_allocate_sparse(n_, 1, column.size(), 1, 1, 0, CHOLMOD_REAL, c);
+    if (!R) return false;
+    auto* rp = static_cast<int*>(R->p);
+    auto* ri = static_cast<int*>(R->i);
+    auto* rx = static_cast<double*>(R->x);
+    rp[0] = 0;
+    int m = 0;
+    for (const auto& [r, v] : column) {
+        if (m > 0 && ri[m - 1] == r) {
+            rx[m - 1] += v;
+            continue;
+        }
+        ri[m] = r, rx[m] = v, ++m;
+    }
+    rp[1] = m;
+    int ok = 0;
+    {
+        SerialOpenMP serial;
+        ok = cholmod_rowadd(k, R, factor_of(factor_), c);
+    }
+    cholmod_free_sparse(&R, c);
+    in_use_[k] = 1;
+    return ok && c->status == CHOLMOD_OK;
+}
+
+bool ModifiableFactor::delete_row(int k) {
+    auto* c = common_of(common_);
+    int ok = 0;
+    {
+        SerialOpenMP serial;
+        ok = cholmod_rowdel(k, nullptr, factor_of(factor_), c);
+    }
+    in_use_[k] = 0;
+    return ok && c->status == CHOLMOD_OK;
+}
+
+bool ModifiableFactor::update(const std::vector<int>& rows, const Eigen::MatrixXd& V, bool add) {
+    if (V.cols() == 0) return true;
+    auto* c = common_of(common_);
+    std::vector<int> order(rows.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return rows[a] < rows[b]; });
+    const int m = static_cast<int>(V.cols()), r = static_cast<int>(rows.size());
+    cholmod_sparse* C = cholmod_allocate_sparse(n_, m, static_cast<size_t>(r) * m, 1, 1, 0, CHOLMOD_REAL, c);
+    if (!C) return false;
+    auto* cp = static_cast<int*>(C->p);
+    auto* ci = static_cast<int*>(C->i);
+    auto* cx = static_cast<double*>(C->x);
+    for (int j = 0; j < m; ++j) {
+        cp[j] = j * r;
+        for (int q = 0; q < r; ++q) ci[j * r + q] = rows[order[q]], cx[j * r + q] = V(order[q], j);
+    }
+    cp[m] = m * r;
+    int ok = 0;
+    {
+        SerialOpenMP serial;
+        ok = cholmod_updown(add ? 1 : 0, C, factor_of(factor_), c);
+    }
+    cholmod_free_sparse(&C, c);
+    return ok && c->status == CHOLMOD_OK;
+}
+
+Eigen::VectorXd ModifiableFactor::solve(const Eigen::VectorXd& b) const {
+    auto* c = common_of(common_);
+    if (b.size() != n_) throw std::invalid_argument("modifiable factor: right-hand side has the wrong size");
+    cholmod_dense rhs;
+    rhs.nrow = n_;
+    rhs.ncol = 1;
+    rhs.nzmax = n_;
+    rhs.d = n_;
+    rhs.x = const_cast<double*>(b.data());
+    rhs.z = nullptr;
+    rhs.xtype = CHOLMOD_REAL;
+    rhs.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense* x = nullptr;
+    {
+        SerialOpenMP serial;
+        x = cholmod_solve(CHOLMOD_LDLt, factor_of(factor_), &rhs, c);
+    }
+    if (!x) throw std::runtime_error("modifiable factor: CHOLMOD's solve failed");
+    Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(x->x), n_);
+    cholmod_free_dense(&x, c);
+    return out;
+}
+
+long ModifiableFactor::nonzeros() const {
+    const auto* L = factor_of(factor_);
+    const int* nz = static_cast<const int*>(L->nz);
+    long total = 0;
+    for (size_t j = 0; j < L->n; ++j) total += nz[j];
+    return total;
+}
+
+bool ModifiableFactor::positive_definite() const {
+    const auto* L = factor_of(factor_);
+    if (L->is_super || L->is_ll) return false;
+    const int* p = static_cast<const int*>(L->p);
+    const double* x = static_cast<const double*>(L->x);
+    for (size_t j = 0; j < L->n; ++j)
+        if (!(x[p[j]] > 0) || !std::isfinite(x[p[j]])) return false;
+    return true;
 }
 
 }  // namespace pyfrustrate

@@ -74,3 +74,51 @@ class CholeskyAnalysis {
 };
 
 }  // namespace pyfrustrate
+
+namespace pyfrustrate {
+
+// A simplicial LDL^T factor that is modified in place instead of refactorised (CHOLMOD's Modify
+// module): rows added and deleted, low-rank updates and downdates. The Monte Carlo's clusters
+// differ from the one they came from by a particle or a few, and so do their Hessians: a few
+// rows and a block of rank <= 2 x corners per particle. Rows are numbered in elimination order
+// (the caller's degrees of freedom were permuted by AMD when the factor was made, and CHOLMOD
+// runs in natural order), with `spare` identity rows appended for the corners of particles that
+// join later: a row added last creates no fill in the columns before it.
+class ModifiableFactor {
+   public:
+    // Factorises the symmetric matrix given by its upper triangle in compressed columns on n
+    // degrees of freedom (rows sorted within each column), plus `spare` identity rows. Returns
+    // nullptr where it is not positive definite. row_of_dof receives each dof's row.
+    static std::unique_ptr<ModifiableFactor> make(int n, const std::vector<int>& column_start,
+                                                  const std::vector<int>& row, const std::vector<double>& values,
+                                                  int spare, std::vector<int>& row_of_dof);
+    std::unique_ptr<ModifiableFactor> copy() const;
+    ~ModifiableFactor();
+    ModifiableFactor(const ModifiableFactor&) = delete;
+    ModifiableFactor& operator=(const ModifiableFactor&) = delete;
+
+    int rows() const { return n_; }
+    // An identity row (spare, or deleted), preferring the last; -1 if none is left.
+    int take_free_row();
+    // Row k (an identity row) becomes the matrix column given by (row, value) pairs, the
+    // diagonal included; the entries must lie in rows in use or k itself.
+    bool add_row(int k, std::vector<std::pair<int, double>> column);
+    // Row k becomes an identity row again (its degree of freedom leaves the matrix).
+    bool delete_row(int k);
+    // A + sign * V V^T for the columns of V, nonzero only in `rows` (V is rows.size() x m).
+    bool update(const std::vector<int>& rows, const Eigen::MatrixXd& V, bool add);
+    // A^-1 b, b and the result in rows (identity rows pass b through).
+    Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+    long nonzeros() const;
+    // Every pivot of D positive (the modified matrix is still positive definite).
+    bool positive_definite() const;
+
+   private:
+    ModifiableFactor() = default;
+    int n_ = 0;
+    void* common_ = nullptr;  // cholmod_common*, one per factor (its workspace)
+    void* factor_ = nullptr;  // cholmod_factor*, simplicial LDL^T
+    std::vector<char> in_use_;
+};
+
+}  // namespace pyfrustrate

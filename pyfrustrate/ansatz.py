@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from . import continuum, topology
+from . import _checks, continuum, topology
 from .relaxation import relax
 
 #: Aggregate kind of each candidate family, for the diagrams' colour code.
@@ -32,16 +32,41 @@ PHASES = ("bulk_with_holes", "disk", "fiber", "bulk")
 
 
 def winning_phase(family: str, g: float) -> str:
-    """Phase of a winning candidate: ``FAMILY_PHASE``, except that a single particle winning at
-    ``g > 0`` means no aggregate pays: a gas of monomers (triangles at very small Gamma, where a
-    bound pair already costs deformation; at ``g = 0`` every candidate of zero deformation ties)."""
+    """Phase of a winning candidate.
+
+    ``FAMILY_PHASE``, except that a single particle winning at ``g > 0`` means no aggregate pays:
+    a gas of monomers (triangles at very small Gamma, where a bound pair already costs
+    deformation; at ``g = 0`` every candidate of zero deformation ties).
+
+    Parameters
+    ----------
+    family : str
+        A key of ``FAMILY_PHASE``.
+    g : float
+        Binding energy per bound pair of sides.
+
+    Returns
+    -------
+    str
+        One of ``PHASES``, or ``'gas'``.
+    """
     return "gas" if family == "single" and g > 0 else FAMILY_PHASE[family]
 
 
 @dataclass(frozen=True)
 class Candidate:
-    """One pre-made aggregate: its family (``FAMILY_PHASE``), integer size (disk radius R or fibre
-    width in lattice lines; 0 otherwise) and topology."""
+    """One pre-made aggregate of the catalogue.
+
+    Parameters
+    ----------
+    family : str
+        Its family (a key of ``FAMILY_PHASE``).
+    size : int
+        Disk radius ``R`` or fibre width in **lattice lines** (``topology.fiber``); 0 otherwise.
+        The continuum size is ``topology.size``.
+    topology : Topology
+        The aggregate.
+    """
 
     family: str
     size: int
@@ -50,10 +75,56 @@ class Candidate:
 
 def catalogue(max_radius: int = 25, max_width: int = 35, cuts=(0, 1, 2), straight_fibers: bool = False,
               hole_patterns=None, tiling: str = "hexagon") -> list[Candidate]:
-    """The candidates of Fig. 4a (hexagons) or S6e (triangles): the single particle (a disk of
-    one), compact disks ``R = 1..max_radius``, fibres of each cut from the narrowest connected
-    one to ``max_width`` (free to curve), optionally the straight cut-0 fibres, the bulk and
-    bulks with holes (default: every pattern of the tiling, ``topology.hole_patterns``)."""
+    """The pre-made candidates of Fig. 4a (hexagons) or S6e (triangles).
+
+    The single particle (a disk of one), compact disks ``R = 1..max_radius``, fibres of each cut
+    from the narrowest connected one to ``max_width`` lattice lines (free to curve), optionally the
+    straight cut-0 fibres, the bulk and bulks with holes.
+
+    Parameters
+    ----------
+    max_radius : int, optional
+        Largest disk radius, in lattice steps.
+    max_width : int, optional
+        Widest fibre, in lattice lines (``topology.fiber``; continuum ``W`` is the topology's
+        ``size``).
+    cuts : iterable of int, optional
+        Fibre cuts to include.
+    straight_fibers : bool, optional
+        Add straight (``curved=False``) cut-0 fibres.
+    hole_patterns : iterable of str, optional
+        Bulks with holes to add (default: every pattern of the tiling, ``topology.hole_patterns``).
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling.
+
+    Returns
+    -------
+    list of Candidate
+
+    Raises
+    ------
+    ValueError
+        For bad sizes, or sizes whose candidates would not fit in memory (the message says how
+        much they would need).
+
+    Examples
+    --------
+    >>> from pyfrustrate import ansatz
+    >>> candidates = ansatz.catalogue(max_radius=4, max_width=8)
+    >>> len(candidates), candidates[0].family, candidates[-1].family
+    (30, 'single', 'holes_sqrt7')
+    """
+    max_radius = _checks.integer("max_radius", max_radius, 0)
+    max_width = _checks.integer("max_width", max_width, 0)
+    # Every candidate is kept. The disks' particles sum to (max_radius + 1)^3 on the hexagon
+    # tiling (the centred hexagonal numbers 1 + 3 R (R + 1) sum to cubes), to
+    # sum 6 R^2 = M (M + 1) (2 M + 1) on the triangle one; a fibre cell holds at most 2 width + 1.
+    m = max_radius
+    disks = (m + 1) ** 3 if tiling == "hexagon" else m * (m + 1) * (2 * m + 1)
+    fibers = len(cuts) * (max_width + 1) ** 2
+    _checks.affordable(f"catalogue(max_radius={max_radius}, max_width={max_width})",
+                       (disks + fibers) * topology.TOPOLOGY_BYTES_PER_PARTICLE
+                       + (2 * max_width + 1) * topology.FIBER_BYTES_PER_PARTICLE)
     if hole_patterns is None:
         hole_patterns = tuple(topology.hole_patterns(tiling))
     out = [Candidate("single", 0, topology.disk(0, tiling=tiling))]
@@ -71,11 +142,32 @@ def catalogue(max_radius: int = 25, max_width: int = 35, cuts=(0, 1, 2), straigh
 
 @dataclass(frozen=True)
 class CatalogueEnergies:
-    """Relaxed energies of a catalogue for one particle (arrays of length n_candidates).
+    """Relaxed energies of a catalogue for one particle (arrays of length n_candidates), from
+    ``relax_catalogue``.
 
-    ``deformation``: deformation energy per particle; ``bonds``: bound pairs of sides per
-    particle; ``length``: continuum size (``W`` or ``R`` in lattice units, inf for bulks);
-    ``converged``, ``iterations``, ``seconds``: the minimiser's report per candidate.
+    Energies are **deformation** energies; the total at binding energy ``g`` per bound pair of
+    sides is ``deformation - g * bonds`` per particle (``total``).
+
+    Attributes
+    ----------
+    family : ndarray of str
+        Candidate families.
+    size : ndarray of int
+        Disk radius or fibre width in lattice lines (0 otherwise).
+    length : ndarray of float
+        Continuum size: ``W`` or ``R`` in lattice spacings (``Topology.size``), inf for bulks.
+    n_particles : ndarray of int
+        Particles (per cell when periodic).
+    deformation : ndarray of float
+        Deformation energy per particle.
+    bonds : ndarray of float
+        Bound pairs of sides per particle.
+    converged : ndarray of bool
+        The minimiser's verdict per candidate.
+    iterations : ndarray of int
+        Energy and gradient evaluations per candidate.
+    seconds : ndarray of float
+        Wall time per candidate.
     """
 
     family: np.ndarray
@@ -89,20 +181,78 @@ class CatalogueEnergies:
     seconds: np.ndarray
 
     def as_arrays(self) -> dict:
+        """The fields as a dict of arrays (for ``io.save_npz``; inverse of ``from_arrays``).
+
+        Returns
+        -------
+        dict
+        """
         return {name: getattr(self, name) for name in self.__dataclass_fields__}
 
     @classmethod
     def from_arrays(cls, arrays: dict) -> "CatalogueEnergies":
+        """Rebuild from a mapping with one entry per field (a saved ``.npz``).
+
+        Parameters
+        ----------
+        arrays : mapping
+            As written by ``as_arrays``.
+
+        Returns
+        -------
+        CatalogueEnergies
+        """
         return cls(**{name: np.asarray(arrays[name]) for name in cls.__dataclass_fields__})
 
     def total(self, g) -> np.ndarray:
-        """Total energy per particle, shape (n_candidates, *shape(g))."""
+        """Total energy per particle, ``deformation - g * bonds``.
+
+        Parameters
+        ----------
+        g : array_like
+            Binding energies per bound pair of sides.
+
+        Returns
+        -------
+        ndarray, shape (n_candidates, *shape(g))
+        """
         g = np.asarray(g, float)
         return self.deformation.reshape((-1,) + (1,) * g.ndim) - np.multiply.outer(self.bonds, g)
 
     def winners(self, g, families=None) -> np.ndarray:
-        """Index of the lowest total energy per particle at each binding energy ``g`` (ties go to
-        the earlier candidate), optionally among the given families only."""
+        """Index of the lowest total energy per particle at each binding energy ``g``.
+
+        Ties go to the earlier candidate.
+
+        Parameters
+        ----------
+        g : array_like
+            Binding energies per bound pair of sides (``binding_energy_of`` from ``Gamma``).
+        families : iterable of str, optional
+            Compete among these families only (e.g. the fibres, for ``W*``).
+
+        Returns
+        -------
+        ndarray of int, shape of ``g``
+
+        Raises
+        ------
+        ValueError
+            If none of ``families`` is in the catalogue.
+
+        Examples
+        --------
+        ``W*`` at ``ell = 2, nu = 0.9, Gamma = 0.5`` from a small catalogue, against the continuum:
+
+        >>> from pyfrustrate import Hexagon, ansatz, continuum
+        >>> p = Hexagon.from_continuum(ell=2.0, nu=0.9)
+        >>> energies = ansatz.relax_catalogue(p, ansatz.catalogue(max_radius=4, max_width=8))
+        >>> best = energies.winners(ansatz.binding_energy_of(p, 2.0, 0.9, Gamma=0.5))
+        >>> str(energies.family[best]), int(energies.size[best]), round(float(energies.length[best]) / 2.0, 2)
+        ('fiber_cut0', 6, 2.6)
+        >>> round(float(continuum.optimal_width(0.9, 0.5)), 2)  # W*/ell
+        2.51
+        """
         total = self.total(g)
         if families is not None:
             allowed = np.isin(self.family, list(families))
@@ -114,10 +264,46 @@ class CatalogueEnergies:
 
 def relax_catalogue(particle, candidates, method: str = "auto", tol: float = 1e-5, progress: bool = False,
                     description: str = "catalogue") -> CatalogueEnergies:
-    """Relax every candidate once. ``method='auto'`` (Newton) and ``'lbfgs'`` (started from the
-    linear solution) are exact to the tolerance; ``'linear'`` keeps the linear solution (error
-    O(eps^2) relative). On the paper-scale catalogue at ell = 5 Newton took a fifth of L-BFGS's
-    time (benchmarks/README.md)."""
+    """Relax every candidate once.
+
+    ``method='auto'`` (Newton) and ``'lbfgs'`` (started from the linear solution) are exact to the
+    tolerance; ``'linear'`` keeps the linear solution (error O(eps^2) relative). On the
+    paper-scale catalogue at ell = 5 Newton took a fifth of L-BFGS's time (benchmarks/README.md).
+
+    Parameters
+    ----------
+    particle : Hexagon, Triangle or RandomHexagon
+        The particle model.
+    candidates : list of Candidate
+        From ``catalogue``.
+    method : {'auto', 'newton', 'lbfgs', 'linear'}, optional
+        As for ``relax``.
+    tol : float, optional
+        As for ``relax``.
+    progress : bool, optional
+        Show a progress bar (tqdm).
+    description : str, optional
+        The progress bar's label.
+
+    Returns
+    -------
+    CatalogueEnergies
+        Deformation energies and bonds per particle; the binding enters through ``winners(g)``.
+
+    Raises
+    ------
+    TypeError
+        If ``particle`` is not a particle model.
+
+    Examples
+    --------
+    >>> from pyfrustrate import Hexagon, ansatz
+    >>> p = Hexagon.from_continuum(ell=2.0, nu=0.9)
+    >>> energies = ansatz.relax_catalogue(p, ansatz.catalogue(max_radius=2, max_width=4))
+    >>> bool(energies.converged.all()), energies.family[:3].tolist()
+    (True, ['single', 'disk', 'disk'])
+    """
+    _checks.particle("particle", particle)
     rows = []
     iterator = candidates
     if progress:
@@ -137,19 +323,63 @@ def relax_catalogue(particle, candidates, method: str = "auto", tol: float = 1e-
 
 
 def binding_energy_of(particle, ell: float, nu: float, Gamma) -> np.ndarray:
-    """Binding energy ``g`` per bound pair of sides for line tension ``Gamma`` (supplement S1 and
-    the tiling's convention, ``continuum.line_tension``), at the particle's own ``(ell, nu, eps, k)``."""
+    """Binding energy ``g`` per bound pair of sides for line tension ``Gamma``, at the particle's own
+    ``(k, eps)`` and tiling, in the measured convention (``gamma = g``; ``continuum``).
+
+    Parameters
+    ----------
+    particle : Hexagon or Triangle
+        The particle model (its ``k``, ``eps`` and ``tiling`` are used).
+    ell : float
+        Boundary-layer length, in lattice spacings.
+    nu : float
+        2D Poisson ratio.
+    Gamma : array_like
+        Dimensionless line tension(s).
+
+    Returns
+    -------
+    ndarray
+        ``g``, shape of ``Gamma``.
+
+    Raises
+    ------
+    TypeError
+        If ``particle`` is not a particle model.
+    ValueError
+        For parameters out of range (named).
+    """
+    _checks.particle("particle", particle)
     return np.asarray(continuum.particle_parameters(ell, nu, Gamma, k=particle.k, eps=particle.eps,
                                                     tiling=particle.tiling).g, float)
 
 
 def edge_line_tension(cut: int, tiling: str = "hexagon") -> float:
-    """Binding cost per unit length of one straight edge of a cut-``cut`` fibre, in units of g,
-    counted on the discrete lattice: bonds broken per period (the bulk's bonds per particle, from
+    """Binding cost per unit length of one straight edge of a cut-``cut`` fibre, in units of ``g``.
+
+    Counted on the discrete lattice: bonds broken per period (the bulk's bonds per particle, from
     the kernel's tiling, times the particles, less the fibre's bonds), over the two edges and the
     period length. Hexagons: cut 0 (along a lattice vector) 1, cut 1 2/sqrt(3), cut 2 3/sqrt(7).
     Triangles: cut 0 1/2, cut 1 3/4 (the mean of its flat edge, 1/2, and sawtooth one, 1), cut 2
-    1/sqrt(3)."""
+    1/sqrt(3).
+
+    Parameters
+    ----------
+    cut : {0, 1, 2}
+        The fibre cut.
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from pyfrustrate import ansatz
+    >>> float(ansatz.edge_line_tension(0)), round(float(ansatz.edge_line_tension(1)), 4)  # 1 and 2/sqrt(3)
+    (1.0, 1.1547)
+    """
     width = 8
     t = topology.fiber(width, cut, curved=False, tiling=tiling)
     period = np.linalg.norm(topology.cell_positions([topology.fiber_axis(cut, tiling)])[0])
@@ -163,23 +393,62 @@ FINITE_SEGMENTS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0, 4.
 
 
 class EnergiesLinearInG:
-    """Candidates whose energies are ``deformation - g * bonds`` (arrays ``deformation`` and
-    ``bonds``, one entry each): the lowest at each binding energy ``g``."""
+    """Candidates whose energies are ``deformation - g * bonds``: the lowest at each binding energy.
+
+    Subclasses provide the arrays, one entry per candidate.
+
+    Attributes
+    ----------
+    deformation : ndarray
+        Deformation energy of each candidate.
+    bonds : ndarray
+        Bound pairs of sides of each candidate (energy ``-g`` each).
+    """
 
     deformation: np.ndarray  # provided by the subclasses (dataclass fields there)
     bonds: np.ndarray
 
     def total(self, g) -> np.ndarray:
-        """Total energy ``deformation - g * bonds`` of each candidate, shape (n, *shape(g))."""
+        """Total energy ``deformation - g * bonds`` of each candidate.
+
+        Parameters
+        ----------
+        g : array_like
+            Binding energies per bound pair of sides.
+
+        Returns
+        -------
+        ndarray, shape (n, *shape(g))
+        """
         g = np.asarray(g, float)
         return self.deformation.reshape((-1,) + (1,) * g.ndim) - np.multiply.outer(self.bonds, g)
 
     def best(self, g) -> np.ndarray:
-        """Index of the lowest-energy candidate at each binding energy ``g``."""
+        """Index of the lowest-energy candidate at each binding energy ``g``.
+
+        Parameters
+        ----------
+        g : array_like
+            Binding energies per bound pair of sides.
+
+        Returns
+        -------
+        ndarray of int, shape of ``g``
+        """
         return np.argmin(self.total(g), axis=0)
 
     def best_energy(self, g) -> np.ndarray:
-        """Total energy of the best candidate at each binding energy ``g``."""
+        """Total energy of the best candidate at each binding energy ``g``.
+
+        Parameters
+        ----------
+        g : array_like
+            Binding energies per bound pair of sides.
+
+        Returns
+        -------
+        ndarray, shape of ``g``
+        """
         return np.min(self.total(g), axis=0)
 
 
@@ -190,11 +459,27 @@ class FiniteAggregates(EnergiesLinearInG):
 
     The infinite-system catalogue says which structure wins per particle; at the particle numbers
     of a simulation a fibre of optimal width ``W*`` may not fit, and the best single aggregate is
-    then more compact. Arrays have one entry per shape: ``segment`` (lattice units), ``faceted``
-    (bounded by close-packed rows rather than round), ``deformation`` (total relaxed deformation
-    energy), ``bonds`` (bound pairs of sides), ``width``/``length``
-    (``topology.gyration_dimensions``), ``converged``. Splitting into several aggregates is not
-    considered.
+    then more compact. Splitting into several aggregates is not considered
+    (``ground_states.box_candidates`` does).
+
+    Attributes
+    ----------
+    n : int
+        Particles per aggregate.
+    segment : ndarray
+        Core segment length of each shape, lattice spacings.
+    faceted : ndarray of bool
+        Bounded by close-packed rows rather than round.
+    sites : tuple of ndarray
+        Each shape's sites, shape (n, 2).
+    deformation : ndarray
+        Total relaxed deformation energy of each shape (not per particle).
+    bonds : ndarray
+        Bound pairs of sides of each shape.
+    width, length : ndarray
+        ``topology.gyration_dimensions``, lattice spacings.
+    converged : ndarray of bool
+        The minimiser's verdict.
     """
 
     n: int
@@ -210,38 +495,114 @@ class FiniteAggregates(EnergiesLinearInG):
     _FIELDS = ("segment", "faceted", "deformation", "bonds", "width", "length", "converged")
 
     def best_aspect_ratio(self, g) -> np.ndarray:
-        """Length over width of the best single aggregate at each ``g`` (1 for a round one)."""
+        """Length over width of the best single aggregate at each ``g`` (1 for a round one).
+
+        Parameters
+        ----------
+        g : array_like
+            Binding energies per bound pair of sides.
+
+        Returns
+        -------
+        ndarray, shape of ``g``
+        """
         best = self.best(g)
         return self.length[best] / self.width[best]
 
     @classmethod
     def from_arrays(cls, arrays) -> "FiniteAggregates":
-        """Rebuild from a mapping with one entry per field (a saved ``.npz``; ``sites`` stacked)."""
+        """Rebuild from a mapping with one entry per field (a saved ``.npz``; ``sites`` stacked).
+
+        Parameters
+        ----------
+        arrays : mapping
+            As written by ``arrays``.
+
+        Returns
+        -------
+        FiniteAggregates
+        """
         fields = {k: np.asarray(arrays[k]) for k in cls._FIELDS}
         return cls(int(arrays["n"]), sites=tuple(np.asarray(arrays["sites"])), **fields)
 
     def arrays(self) -> dict:
-        """The fields as arrays for ``io.save_npz`` (inverse of ``from_arrays``)."""
+        """The fields as arrays for ``io.save_npz`` (inverse of ``from_arrays``).
+
+        Returns
+        -------
+        dict
+        """
         return {"n": self.n, "sites": np.stack(self.sites), **{k: getattr(self, k) for k in self._FIELDS}}
 
 
 def energy_above_best_single(energy: float, g: float, prediction) -> float:
-    """How far a Monte Carlo state of energy ``energy`` at binding energy ``g`` lies above the
-    best single aggregate of a saved finite-size prediction (the arrays of ``FiniteAggregates``
-    plus ``bulk_energy_per_particle``), in bulk particle energies. Negative: several aggregates
-    beat one."""
+    """How far a Monte Carlo state lies above the best single aggregate of a saved finite-size
+    prediction, in bulk particle energies.
+
+    Parameters
+    ----------
+    energy : float
+        Total energy of the state (deformation minus ``g`` times bonds).
+    g : float
+        Binding energy per bound pair of sides.
+    prediction : mapping
+        The arrays of ``FiniteAggregates`` plus ``bulk_energy_per_particle``.
+
+    Returns
+    -------
+    float
+        Negative: several aggregates beat one.
+    """
     best = FiniteAggregates.from_arrays(prediction).best_energy(float(g))
     return (float(energy) - float(best)) / float(prediction["bulk_energy_per_particle"])
 
 
 def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", tol: float = 1e-5) -> FiniteAggregates:
-    """Relax the two one-parameter families of single ``n``-particle aggregates, round and
-    faceted (``topology.stadium_sites``), ``segments`` the lengths of their core segments
-    (default ``FINITE_SEGMENTS * sqrt(n)``). Finite-size prediction for Monte Carlo: the best
-    shape at binding energy ``g`` is ``best(g)``. The faceted shapes hold the most bonds; the round
-    ones alone left the best aggregate of 200 particles 1-4 bulk particle energies too high
-    (ell = 5, Gamma = 0.5 to 0.95), below which annealing with bonded moves went."""
-    if getattr(particle, "tiling", "hexagon") != "hexagon":
+    """Relax the two one-parameter families of single ``n``-particle aggregates, round and faceted.
+
+    The finite-size prediction for Monte Carlo: the best shape at binding energy ``g`` is
+    ``best(g)``. The faceted shapes hold the most bonds; the round ones alone left the best
+    aggregate of 200 particles 1-4 bulk particle energies too high (ell = 5, Gamma = 0.5 to 0.95),
+    below which annealing with bonded moves went.
+
+    Parameters
+    ----------
+    particle : Hexagon or RandomHexagon
+        A particle of the hexagon tiling.
+    n : int
+        Particles per aggregate.
+    segments : array_like, optional
+        Core segment lengths of the shapes (``topology.stadium_sites``), lattice spacings
+        (default ``FINITE_SEGMENTS * sqrt(n)``).
+    method : {'auto', 'newton', 'lbfgs', 'linear'}, optional
+        As for ``relax``.
+    tol : float, optional
+        As for ``relax``.
+
+    Returns
+    -------
+    FiniteAggregates
+        Round shapes first, then faceted ones, each in the order of ``segments``.
+
+    Raises
+    ------
+    TypeError
+        If ``particle`` is not a particle model.
+    ValueError
+        For a triangle-tiling particle, bad ``segments`` or ``n``, or ``n`` too large for memory.
+
+    Examples
+    --------
+    >>> from pyfrustrate import Hexagon, ansatz
+    >>> p = Hexagon.from_continuum(ell=2.0, nu=0.9)
+    >>> shapes = ansatz.finite_aggregates(p, 19, segments=[0.0, 4.0])
+    >>> shapes.faceted.tolist(), shapes.bonds.tolist()
+    ([False, False, True, True], [42, 40, 42, 40])
+    >>> g = ansatz.binding_energy_of(p, 2.0, 0.9, Gamma=0.5)
+    >>> int(shapes.best(g)), float(shapes.best_aspect_ratio(g))  # the compact hexagon of 19
+    (2, 1.0)
+    """
+    if _checks.particle("particle", particle).tiling != "hexagon":
         raise ValueError("particle: finite-size predictions are built for hexagon tilings only")
     if segments is None:
         segments = np.asarray(FINITE_SEGMENTS) * np.sqrt(n)

@@ -35,9 +35,27 @@ REFERENCES = ("centre", "bulk")
 
 
 def decay_modes(M) -> np.ndarray:
-    """The two decaying modes ``z`` (|z| < 1) of the half-plane's transfer problem for the
-    matrix ``M``, slowest first (a complex pair has one modulus). Their decay lengths are
-    ``-ROW_SPACING / ln|z|``."""
+    """The two decaying modes ``z`` (``|z| < 1``) of the half-plane's transfer problem.
+
+    Slowest first (a complex pair has one modulus). Their decay lengths are
+    ``-ROW_SPACING / ln|z|`` (``decay_length``).
+
+    Parameters
+    ----------
+    M : array_like, shape (9, 9)
+        A random particle's elasticity matrix (``random_particles.elasticity_matrices``).
+
+    Returns
+    -------
+    ndarray of complex, shape (2,)
+
+    Raises
+    ------
+    ValueError
+        If ``M`` is not a valid elasticity matrix.
+    RuntimeError
+        If the transfer problem does not have exactly two decaying modes.
+    """
     z = rp.transfer_roots(rp.rest_hessian(rp.checked_matrix(M)))
     z = z[np.argsort(np.abs(z - 1))][4:]  # the four roots at z = 1 are translations and strains
     inside = z[np.abs(z) < 1]
@@ -50,7 +68,18 @@ def decay_modes(M) -> np.ndarray:
 
 
 def decay_length(z) -> np.ndarray:
-    """Decay length of a mode ``z``: ``-ROW_SPACING / ln|z|``."""
+    """Decay length of a mode ``z``: ``-ROW_SPACING / ln|z|``.
+
+    Parameters
+    ----------
+    z : array_like of complex
+        Modes (``decay_modes``), ``|z| < 1``.
+
+    Returns
+    -------
+    ndarray
+        Lattice spacings.
+    """
     return -rp.ROW_SPACING / np.log(np.abs(z))
 
 
@@ -79,16 +108,33 @@ def _strip(width: int) -> _Strip:
 def edge_mode_shares(M, width: int | None = None) -> dict:
     """Each decaying mode's share of the edge displacement, at the top and the bottom edge.
 
-    The linear response of a straight strip of ``width`` rows (default: 40 slowest lengths, at
-    least 60 rows) is, from the third row inwards, exactly ``a + b j + c (-1)^j +
-    sum_i c_i z_i^j`` per particle row ``j`` (12 corner displacements each): ``a + b j`` are
-    translations and uniform strains, ``(-1)^j`` is the cell's stretch seen through the
-    alternating positions of the rows in the periodic cell, ``z_i`` the two modes of
-    ``decay_modes``. The coefficients come from a least-squares fit over the half of the strip
-    nearest each edge (residual ~1e-13 of the displacement: the fit is exact, and ``residual``
-    reports it); a mode's share is ``|c_i| / (|c_1| + |c_2|)``, its displacement at the edge
-    row relative to the other's. Returns ``z`` (2,), ``ell`` (2,), ``share`` (2 edges, 2 modes:
-    top then bottom) and ``residual`` (relative)."""
+    The linear response of a straight strip of ``width`` rows is, from the third row inwards,
+    exactly ``a + b j + c (-1)^j + sum_i c_i z_i^j`` per particle row ``j`` (12 corner
+    displacements each): ``a + b j`` are translations and uniform strains, ``(-1)^j`` is the
+    cell's stretch seen through the alternating positions of the rows in the periodic cell,
+    ``z_i`` the two modes of ``decay_modes``. The coefficients come from a least-squares fit over
+    the half of the strip nearest each edge (residual ~1e-13 of the displacement: the fit is
+    exact, and ``residual`` reports it); a mode's share is ``|c_i| / (|c_1| + |c_2|)``, its
+    displacement at the edge row relative to the other's.
+
+    Parameters
+    ----------
+    M : array_like, shape (9, 9)
+        A random particle's elasticity matrix (``random_particles.elasticity_matrices``).
+    width : int, optional
+        Rows of the strip (default: 40 slowest lengths, at least 60 rows).
+
+    Returns
+    -------
+    dict
+        ``z`` (2,), ``ell`` (2,, lattice spacings), ``share`` (2 edges, 2 modes: top then bottom)
+        and ``residual`` (relative).
+
+    Raises
+    ------
+    ValueError
+        If ``M`` is not a valid elasticity matrix, or the strip too large for memory.
+    """
     z = decay_modes(M)
     ell = decay_length(z)
     if width is None:
@@ -110,9 +156,30 @@ def edge_mode_shares(M, width: int | None = None) -> dict:
 
 
 def excited_boundary_layer_length(M, min_share: float = 0.1, width: int | None = None) -> float:
-    """Definition (b): the decay length of the slowest mode carrying at least ``min_share`` of
-    the edge displacement at either edge of a strip (``edge_mode_shares``); a complex pair of
-    modes has one length, that of definition (a)."""
+    """Definition (b): the decay length of the slowest mode carrying at least ``min_share`` of the
+    edge displacement at either edge of a strip (``edge_mode_shares``).
+
+    A complex pair of modes has one length, that of definition (a).
+
+    Parameters
+    ----------
+    M : array_like, shape (9, 9)
+        A random particle's elasticity matrix (``random_particles.elasticity_matrices``).
+    min_share : float, optional
+        In (0, 0.5].
+    width : int, optional
+        Rows of the strip (``edge_mode_shares``).
+
+    Returns
+    -------
+    float
+        Lattice spacings.
+
+    Raises
+    ------
+    ValueError
+        For ``min_share`` out of range or an invalid ``M``.
+    """
     if not (0 < min_share <= 0.5):
         raise ValueError(f"min_share must lie in (0, 0.5], got {min_share!r}")
     modes = edge_mode_shares(M, width)
@@ -124,14 +191,40 @@ def excited_boundary_layer_length(M, min_share: float = 0.1, width: int | None =
 
 def finite_depth_boundary_layer_length(M, depth: int, eps: float = 0.01, reference: str = "centre",
                                        first_row: int = 1, last_row: int | None = None, tol: float = 1e-8) -> float:
-    """Definition (c), the paper's protocol read literally: a slab of ``depth`` rows (free
-    edges, periodic along them) relaxed at mismatch ``eps`` (Newton, nonlinear), and the decay
-    length of a log-linear fit of ``|e_j / e_ref - 1|`` against the distance ``(j + 1/2)
-    ROW_SPACING`` from the top edge, over rows ``first_row`` to ``last_row`` (default: two rows
-    before the slab's centre; the fit then also sees the far edge's tail, which flattens the
-    profile near the centre). ``reference`` is ``"centre"`` (the central row's energy, as a
-    simulation would take its "bulk") or ``"bulk"`` (the exact infinite bulk,
-    ``RandomHexagon.bulk_energy_per_particle``). Returns ``inf`` when the fit does not decay."""
+    """Definition (c), the paper's protocol read literally.
+
+    A slab of ``depth`` rows (free edges, periodic along them) relaxed at mismatch ``eps``
+    (Newton, nonlinear), and the decay length of a log-linear fit of ``|e_j / e_ref - 1|``
+    against the distance ``(j + 1/2) ROW_SPACING`` from the top edge, over rows ``first_row`` to
+    ``last_row`` (default: two rows before the slab's centre; the fit then also sees the far
+    edge's tail, which flattens the profile near the centre).
+
+    Parameters
+    ----------
+    M : array_like, shape (9, 9)
+        A random particle's elasticity matrix (``random_particles.elasticity_matrices``).
+    depth : int
+        Rows of the slab, ``>= 6``.
+    eps : float, optional
+        Mismatch.
+    reference : {'centre', 'bulk'}, optional
+        ``'centre'``: the central row's energy, as a simulation would take its "bulk";
+        ``'bulk'``: the exact infinite bulk (``RandomHexagon.bulk_energy_per_particle``).
+    first_row, last_row : int, optional
+        Rows fitted (at least three, before the centre).
+    tol : float, optional
+        Relaxation tolerance (``relax``).
+
+    Returns
+    -------
+    float
+        Lattice spacings; ``inf`` when the fit does not decay.
+
+    Raises
+    ------
+    ValueError
+        For a bad depth, reference or row range.
+    """
     depth = int(depth)
     if depth < 6:
         raise ValueError(f"depth must be at least 6 rows, got {depth!r}")
@@ -160,10 +253,34 @@ def finite_depth_boundary_layer_length(M, depth: int, eps: float = 0.01, referen
 
 def compare_definitions(Ms, depths=(10, 20, 40), eps: float = 0.01, min_shares=(0.1, 0.5),
                         progress: bool = False) -> dict:
-    """Every definition of ell for each matrix of ``Ms`` (n, 9, 9): a dict of arrays (n,) keyed
-    ``slowest``, ``excited_share{s}`` per ``min_shares`` and ``finite_depth{D}_{reference}`` per
-    depth and reference, plus ``ell_fast`` (the faster mode), ``share_top``/``share_bottom``
-    (the slowest mode's share at each edge) and the pseudo-moduli ``nu`` and ``ell_pred``."""
+    """Every definition of ell for each matrix of a sample.
+
+    Parameters
+    ----------
+    Ms : array_like, shape (n, 9, 9)
+        Elasticity matrices.
+    depths : iterable of int, optional
+        Slab depths of definition (c).
+    eps : float, optional
+        Mismatch of definition (c).
+    min_shares : iterable of float, optional
+        Thresholds of definition (b).
+    progress : bool, optional
+        Show a progress bar.
+
+    Returns
+    -------
+    dict of ndarray, each of shape (n,)
+        Keyed ``slowest``, ``excited_share{s}`` per ``min_shares`` and
+        ``finite_depth{D}_{reference}`` per depth and reference, plus ``ell_fast`` (the faster
+        mode), ``share_top``/``share_bottom`` (the slowest mode's share at each edge) and the
+        pseudo-moduli ``nu`` and ``ell_pred``. Lengths in lattice spacings.
+
+    Raises
+    ------
+    ValueError
+        For a wrong shape of ``Ms``.
+    """
     from tqdm.auto import tqdm
     Ms = np.asarray(Ms, float)
     if Ms.ndim != 3 or Ms.shape[1:] != (9, 9):
@@ -190,17 +307,41 @@ def compare_definitions(Ms, depths=(10, 20, 40), eps: float = 0.01, min_shares=(
 
 
 def definition_names(study: dict) -> list[str]:
-    """The ell columns of a ``compare_definitions`` result, in table order."""
+    """The ell columns of a ``compare_definitions`` result, in table order.
+
+    Parameters
+    ----------
+    study : dict
+        A ``compare_definitions`` result.
+
+    Returns
+    -------
+    list of str
+    """
     return ["slowest"] + sorted(k for k in study if k.startswith("excited_share")) + \
         sorted((k for k in study if k.startswith("finite_depth")), key=lambda k: (int(k[12:].split("_")[0]), k))
 
 
 def summarise(study: dict, ell_groups=(0.0, 1.0, 1.5, np.inf), threshold: float = 1.5) -> dict:
-    """For each ell definition of a ``compare_definitions`` result, the numbers the paper
-    states: ``P_above`` = P(ell >= threshold), ``median_ratio`` = median ell_pred/ell,
-    ``above_one`` = P(ell_pred > ell), all over the particles whose fit decays
-    (``not_decaying`` is the fraction whose does not), and per ell group the fraction of draws,
-    the median nu, P(nu < 0) and P(nu < -0.5)."""
+    """For each ell definition of a ``compare_definitions`` result, the numbers the paper states.
+
+    Parameters
+    ----------
+    study : dict
+        A ``compare_definitions`` result.
+    ell_groups : sequence of float, optional
+        Edges of the ell groups.
+    threshold : float, optional
+        The ell of ``P_above``.
+
+    Returns
+    -------
+    dict of dict
+        Per definition: ``P_above`` = P(ell >= threshold), ``median_ratio`` = median
+        ell_pred/ell, ``above_one`` = P(ell_pred > ell), all over the particles whose fit decays
+        (``not_decaying`` is the fraction whose does not), and per ell group the fraction of
+        draws, the median nu, P(nu < 0) and P(nu < -0.5).
+    """
     nu, pred = np.asarray(study["nu"]), np.asarray(study["ell_pred"])
     table = {}
     for name in definition_names(study):

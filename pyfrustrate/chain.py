@@ -17,19 +17,24 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _kernel
-from ._checks import integer
+from ._checks import affordable, integer
+
+
+#: Bytes per particle of a chain's relaxation: its 2 (n + 1) coordinates, the gradient and
+#: L-BFGS's stored pairs of updates (10 by default in NLopt), with headroom.
+CHAIN_BYTES_PER_PARTICLE = 512
 
 
 @dataclass(frozen=True)
 class ChainRelaxation:
-    """Relaxed 1D chain.
+    """Relaxed 1D chain, from ``relax``.
 
     Attributes
     ----------
     x_up, x_down : ndarray, shape (n + 1,)
-        Corner coordinates of the top and bottom faces.
+        Corner coordinates of the top and bottom faces (particle widths).
     energy : float
-        Deformation energy, Eq. (1) summed over particles.
+        Deformation energy, Eq. (1) summed over particles, in units of ``k`` times a squared width.
     converged : bool
         Whether the largest gradient component fell below the tolerance.
     iterations : int
@@ -58,14 +63,52 @@ def relax(n: int, k: float = 1.0, kc: float = 0.01, eps: float = 0.01, *, tol: f
           max_iter: int = 200_000) -> ChainRelaxation:
     """Minimise Eq. (1) for a chain of ``n`` particles with NLopt's L-BFGS.
 
-    Starts from the bulk reference (unit rectangles). Converged means the largest gradient
-    component is below ``tol * k * eps`` (forces are of order ``k * eps``). Invalid parameters raise ``ValueError`` naming them; a
-    minimisation that does not reach ``tol`` within ``max_iter`` evaluations is reported through
-    ``converged = False`` (and the status), never silently.
+    Starts from the bulk reference (unit rectangles). A minimisation that does not reach ``tol``
+    within ``max_iter`` evaluations is reported through ``converged = False`` (and the status),
+    never silently.
+
+    Parameters
+    ----------
+    n : int
+        Particles, ``>= 1``.
+    k : float, optional
+        Face spring stiffness (the energy unit).
+    kc : float, optional
+        Connecting spring stiffness (two springs ``kc/2`` per particle).
+    eps : float, optional
+        Mismatch.
+    tol : float, optional
+        Converged when the largest gradient component is below ``tol * k * eps`` (forces are of
+        order ``k * eps``).
+    max_iter : int, optional
+        Cap on energy and gradient evaluations.
+
+    Returns
+    -------
+    ChainRelaxation
+
+    Raises
+    ------
+    ValueError
+        For invalid parameters (named), or ``n`` too large for memory.
+
+    Examples
+    --------
+    The relaxed shift against the exact solution and its decay length against Eq. 3:
+
+    >>> import numpy as np
+    >>> from pyfrustrate import chain, continuum
+    >>> r = chain.relax(40, k=1.0, kc=0.01, eps=0.01)
+    >>> exact = chain.analytic_shift(40, 1.0, 0.01, 0.01)
+    >>> r.converged, bool(np.abs(r.shift - exact).max() < 1e-5 * np.abs(exact).max())
+    (True, True)
+    >>> round(float(chain.fit_decay_length(exact)), 3), round(float(continuum.chain_ell(0.01)), 3)
+    (7.077, 7.077)
     """
     if not (tol > 0):
         raise ValueError(f"tol must be positive, got {tol!r}")
     n = integer("n", n, 1)
+    affordable(f"chain.relax(n={n})", n * CHAIN_BYTES_PER_PARTICLE)
     out = _kernel.chain_relax(int(n), float(k), float(kc), float(eps), float(tol) * k * eps, int(max_iter))
     x = np.asarray(out["x"])
     m = int(n) + 1
@@ -74,7 +117,28 @@ def relax(n: int, k: float = 1.0, kc: float = 0.01, eps: float = 0.01, *, tol: f
 
 
 def energy(n: int, k: float, kc: float, eps: float, x_up, x_down) -> tuple[float, np.ndarray]:
-    """Energy of Eq. (1) and its gradient with respect to ``(x_up, x_down)``, shape (2 (n + 1),)."""
+    """Energy of Eq. (1) and its gradient.
+
+    Parameters
+    ----------
+    n : int
+        Particles, ``>= 1``.
+    k, kc, eps : float
+        As for ``relax``.
+    x_up, x_down : array_like, shape (n + 1,)
+        Corner coordinates of the top and bottom faces.
+
+    Returns
+    -------
+    energy : float
+    gradient : ndarray, shape (2 (n + 1),)
+        With respect to ``(x_up, x_down)``.
+
+    Raises
+    ------
+    ValueError
+        For a bad ``n``.
+    """
     x = np.concatenate([np.asarray(x_up, float), np.asarray(x_down, float)])
     return _kernel.chain_energy(integer("n", n, 1), float(k), float(kc), float(eps), x)
 
@@ -87,10 +151,31 @@ def analytic_shift(n: int, k: float, kc: float, eps: float) -> np.ndarray:
     ``delta_i = -A sinh((n/2 - i)/ell)`` with ``ell = continuum.chain_ell(kc/k)`` (Eq. 3). The
     free edge (difference of the force balances of its top and bottom corners) fixes
     ``A = (2k + kc) eps / (k [sinh(s) - sinh(s - 1/ell)] + kc sinh(s))``, ``s = n / (2 ell)``.
+
+    Parameters
+    ----------
+    n : int
+        Particles, ``>= 1``.
+    k : float
+        Face stiffness, ``> 0``.
+    kc : float
+        Connecting stiffness, ``>= 0``.
+    eps : float
+        Mismatch, in (0, 1).
+
+    Returns
+    -------
+    ndarray, shape (n + 1,)
+
+    Raises
+    ------
+    ValueError
+        For invalid parameters (named), or ``n`` too large for memory.
     """
     from .continuum import _checked, chain_ell
 
     n = integer("n", n, 1)
+    affordable(f"analytic_shift(n={n})", n * CHAIN_BYTES_PER_PARTICLE)
     k = float(_checked("k", k, lo=0.0, lo_open=True))
     kc = float(_checked("kc", kc, lo=0.0))
     eps = float(_checked("eps", eps, lo=0.0, hi=1.0, lo_open=True, hi_open=True))
@@ -109,9 +194,23 @@ def analytic_shift(n: int, k: float, kc: float, eps: float) -> np.ndarray:
 
 
 def fit_decay_length(shift: np.ndarray, window: tuple[float, float] = (0.05, 0.45)) -> float:
-    """Decay length of a relaxed shift profile, by a least-squares fit of
-    ``delta_i = -A sinh((n/2 - i)/ell)`` to the profile (``window``: fractions of the chain
-    kept, measured from the left edge; the default keeps the half-chain away from its edge)."""
+    """Decay length of a relaxed shift profile.
+
+    A least-squares fit of ``delta_i = -A sinh((n/2 - i)/ell)`` to the profile.
+
+    Parameters
+    ----------
+    shift : array_like, shape (n + 1,)
+        The profile (``ChainRelaxation.shift`` or ``analytic_shift``).
+    window : tuple of float, optional
+        Fractions of the chain kept, measured from the left edge; the default keeps the
+        half-chain away from its edge.
+
+    Returns
+    -------
+    float
+        ``ell``, in particles.
+    """
     from scipy.optimize import curve_fit
 
     shift = np.asarray(shift, float)

@@ -22,6 +22,21 @@ same independent minimisations as positive ones.
 
 All functions broadcast their arguments (numpy rules) and return an ndarray, or a numpy scalar
 for scalar input. Invalid input raises ValueError naming the parameter.
+
+Binding conventions. The discrete model binds each pair of touching sides with an energy ``-g``;
+the continuum's line tension is ``gamma`` (energy per unit length of edge) and ``Gamma`` its
+dimensionless form. How ``gamma`` follows from ``g`` is a convention, chosen by ``convention=``:
+
+* ``measured`` (the default, every figure): ``gamma = g`` on hexagons, ``g / 2`` on triangles,
+  the edge energy the discrete model has (``ansatz.edge_line_tension``);
+* ``supplement``: the printed ``gamma = 4 g / sqrt(3)`` (hexagons only). The same ``Gamma`` then
+  means a binding ``sqrt(3)/4 = 0.433`` times the measured one: the paper's 0.5 is our 0.217.
+
+Routes between them: ``particle_parameters(ell, nu, Gamma, convention=...).g`` (``Gamma`` to
+``g``), ``mapping(k, kc, k_area, g, eps, convention=...).Gamma`` (``g`` to ``Gamma``),
+``line_tension`` and ``binding_energy`` (``g`` to ``gamma`` and back);
+``ansatz.binding_energy_of`` and ``random_particles.binding_energy`` take a particle and use
+the measured convention.
 """
 from __future__ import annotations
 
@@ -97,10 +112,25 @@ def _out(a):
 
 @dataclass(frozen=True)
 class ContinuumParameters:
-    """Continuum parameters of the simple particle (broadcast ndarrays): Lame coefficients
-    ``mu, lam``, 2D Poisson ratio ``nu``, coupling ``kappa_c``, line tension ``gamma``,
-    boundary-layer length ``ell`` (Eq. 11, in lattice spacings), bulk energy per unit reference
-    area ``e_bulk`` (Eq. 8) and dimensionless line tension ``Gamma``."""
+    """Continuum parameters of a particle (broadcast ndarrays), from ``mapping``.
+
+    Attributes
+    ----------
+    mu, lam : ndarray
+        Lame coefficients of each sheet (energy per unit area).
+    nu : ndarray
+        2D Poisson ratio.
+    kappa_c : ndarray
+        Coupling between the sheets, per unit area.
+    gamma : ndarray
+        Line tension (energy per unit length of edge), ``line_tension(g)``.
+    ell : ndarray
+        Boundary-layer length (Eq. 11), in lattice spacings.
+    e_bulk : ndarray
+        Bulk deformation energy per unit reference area (Eq. 8).
+    Gamma : ndarray
+        Dimensionless line tension ``2 gamma / ((1 + nu) ell e_bulk)``.
+    """
 
     mu: np.ndarray
     nu: np.ndarray
@@ -114,7 +144,17 @@ class ContinuumParameters:
 
 @dataclass(frozen=True)
 class ParticleParameters:
-    """Particle parameters: connecting springs ``kc``, areal stiffness ``k_area``, binding ``g``."""
+    """Particle parameters, from ``particle_parameters`` (broadcast ndarrays).
+
+    Attributes
+    ----------
+    kc : ndarray
+        Stiffness of the connecting springs.
+    k_area : ndarray
+        Areal stiffness of each triangle.
+    g : ndarray
+        Binding energy per bound pair of sides, in the chosen convention.
+    """
 
     kc: np.ndarray
     k_area: np.ndarray
@@ -128,22 +168,69 @@ def line_tension(g, tiling="hexagon", convention="measured"):
     lattice (spacing 1) along a lattice vector breaks 2 bonds per unit length and creates two
     edges, so each edge costs ``g`` per unit length. A cut perpendicular to a lattice vector
     breaks ``4/sqrt(3)`` bonds per unit length, ``2 g/sqrt(3)`` per edge; the supplement prints
-    ``gamma = 4 g/sqrt(3)``. The convention is to be confirmed by measuring the edge energy of
-    the discrete model (measured: ``results/ansatz/line_tension.json``).
-    ``tiling="triangle"``: ``gamma = g/2`` (``LINE_TENSION_PER_BINDING``).
-    ``convention="supplement"``: the printed ``gamma = 4 g/sqrt(3)`` instead (``BINDING_CONVENTIONS``).
+    ``gamma = 4 g/sqrt(3)``. The discrete model's measured edge energy confirms ``gamma = g``
+    (``ansatz.edge_line_tension``, written to ``results/ansatz/line_tension.json``).
+
+    Parameters
+    ----------
+    g : array_like
+        Binding energy per bound pair of sides, ``>= 0``.
+    tiling : {'hexagon', 'triangle'}, optional
+        The particle's tiling.
+    convention : {'measured', 'supplement'}, optional
+        How ``gamma`` relates to ``g`` (module docstring): ``'measured'`` (default, every figure)
+        ``gamma = g``; ``'supplement'`` the printed ``gamma = 4 g / sqrt(3)`` (hexagons only).
+
+    Returns
+    -------
+    ndarray
+        ``gamma``, energy per unit length (lattice spacings); ``g/2`` on the triangle tiling.
+
+    Raises
+    ------
+    ValueError
+        For a negative or non-numeric ``g``, or an unknown tiling or convention.
+
+    Examples
+    --------
+    >>> from pyfrustrate import continuum
+    >>> float(continuum.line_tension(0.01)), round(float(continuum.line_tension(0.01, convention="supplement")), 5)
+    (0.01, 0.02309)
     """
     return _out(_tiling_constants(tiling, convention)[1] * _checked("g", g, lo=0.0))
 
 
 def binding_energy(gamma, tiling="hexagon", convention="measured"):
-    """Inverse of ``line_tension``: ``g = gamma/LINE_TENSION_PER_BINDING_ENERGY`` (or the
-    supplement's ``g = sqrt(3) gamma/4``)."""
+    """Inverse of ``line_tension``: the binding energy per bond giving line tension ``gamma``.
+
+    ``g = gamma`` (measured convention), ``g = sqrt(3) gamma/4`` (supplement), ``g = 2 gamma``
+    (triangles).
+
+    Parameters
+    ----------
+    gamma : array_like
+        Line tension, energy per unit length, ``>= 0``.
+    tiling : {'hexagon', 'triangle'}, optional
+        The particle's tiling.
+    convention : {'measured', 'supplement'}, optional
+        How ``gamma`` relates to ``g`` (module docstring): ``'measured'`` (default, every figure)
+        ``gamma = g``; ``'supplement'`` the printed ``gamma = 4 g / sqrt(3)`` (hexagons only).
+
+    Returns
+    -------
+    ndarray
+        ``g``.
+
+    Raises
+    ------
+    ValueError
+        For a negative or non-numeric ``gamma``, or an unknown tiling or convention.
+    """
     return _out(_checked("gamma", gamma, lo=0.0) / _tiling_constants(tiling, convention)[1])
 
 
 def mapping(k, kc, k_area, g, eps, tiling="hexagon", convention="measured"):
-    """Continuum parameters of the simple particle (supplement S1, Lame typo fixed).
+    """Continuum parameters of a spring particle (supplement S1, Lame typo fixed).
 
     ``mu = sqrt(3) k/4``, ``nu = (sqrt(3) k + 2 k_area)/(3 sqrt(3) k + 2 k_area)``,
     ``lam = 2 mu nu/(1 - nu) = (sqrt(3) k + 2 k_area)/4`` (misprinted ``mu nu/(1 - nu)``),
@@ -153,14 +240,46 @@ def mapping(k, kc, k_area, g, eps, tiling="hexagon", convention="measured"):
     area sqrt(3)/2 per particle: ``(3 k + sqrt(3) k_area) eps^2``),
     ``Gamma = 2 gamma/((1 + nu) ell e_bulk)``.
 
-    Requires ``k > 0``, ``kc >= 0``, ``k_area > -sqrt(3) k`` (else ``nu <= -1``: unstable
-    sheet), ``g >= 0``, ``0 < eps < 1``. ``k_area = inf`` is the incompressible limit ``nu = 1``
-    (``lam = ell = e_bulk = inf``, ``Gamma = 0``); ``kc = 0`` gives ``ell = inf``, ``Gamma = 0``.
+    ``k_area = inf`` is the incompressible limit ``nu = 1`` (``lam = ell = e_bulk = inf``,
+    ``Gamma = 0``); ``kc = 0`` gives ``ell = inf``, ``Gamma = 0``. ``tiling="triangle"``: the
+    triangular particle, whose moduli ``mu, lam, kappa_c`` and ``e_bulk`` are twice these
+    (``SHEET_MODULI_FACTOR``; same ``nu``, ``ell`` and bulk energy per particle, area
+    ``sqrt(3)/4`` per particle) and ``gamma = g/2``.
 
-    ``tiling="triangle"``: the triangular particle, whose moduli ``mu, lam, kappa_c`` and
-    ``e_bulk`` are twice these (``SHEET_MODULI_FACTOR``; same ``nu``, ``ell`` and bulk energy per
-    particle, area ``sqrt(3)/4`` per particle) and ``gamma = g/2``. ``convention``: the binding
-    convention of ``gamma`` (``line_tension``).
+    Parameters
+    ----------
+    k : array_like
+        Triangle spring stiffness, ``> 0``.
+    kc : array_like
+        Connecting spring stiffness, ``>= 0``.
+    k_area : array_like
+        Areal stiffness, ``> -sqrt(3) k`` (else ``nu <= -1``: unstable sheet); may be ``inf``.
+    g : array_like
+        Binding energy per bound pair of sides, ``>= 0``.
+    eps : array_like
+        Mismatch, in (0, 1).
+    tiling : {'hexagon', 'triangle'}, optional
+        The particle's tiling.
+    convention : {'measured', 'supplement'}, optional
+        How ``gamma`` relates to ``g`` (module docstring): ``'measured'`` (default, every figure)
+        ``gamma = g``; ``'supplement'`` the printed ``gamma = 4 g / sqrt(3)`` (hexagons only).
+
+    Returns
+    -------
+    ContinuumParameters
+        Lengths in lattice spacings.
+
+    Raises
+    ------
+    ValueError
+        For any parameter out of range (named).
+
+    Examples
+    --------
+    >>> from pyfrustrate import continuum
+    >>> c = continuum.mapping(k=1.0, kc=0.0625, k_area=0.75**0.5, g=0.001, eps=0.01)
+    >>> round(float(c.ell), 6), round(float(c.nu), 6), round(float(c.Gamma), 4)
+    (2.0, 0.5, 1.283)
     """
     factor, _ = _tiling_constants(tiling, convention)
     k = _checked("k", k, lo=0.0, lo_open=True)
@@ -185,15 +304,56 @@ def mapping(k, kc, k_area, g, eps, tiling="hexagon", convention="measured"):
 
 
 def particle_parameters(ell, nu, Gamma, k=1.0, eps=0.01, tiling="hexagon", convention="measured"):
-    """Particle parameters with continuum ``(ell, nu, Gamma)`` at given ``k, eps``.
+    """Particle parameters with continuum ``(ell, nu, Gamma)`` at given ``k, eps``: the route from
+    the paper's ``Gamma`` to the binding energy ``g`` the discrete model takes.
 
     Inverse of ``mapping``: ``kc = k/(8 (1 - nu) ell^2)``,
     ``k_area = sqrt(3) k (3 nu - 1)/(2 (1 - nu))``, ``g = binding_energy(Gamma (1 + nu) ell
-    e_bulk/2)`` with ``e_bulk = sqrt(3) k eps^2 (1 + nu)/(1 - nu)``. ``ell > 0`` finite and
-    ``-1 < nu < 1`` (``nu < 1/3`` needs ``k_area < 0``; ``nu = 1`` has no finite particle).
-    ``tiling="triangle"``: the same ``kc`` and ``k_area``; ``g`` from that tiling's ``e_bulk`` and
-    line tension (``mapping``). ``convention``: how ``Gamma`` maps to ``g`` (``BINDING_CONVENTIONS``;
-    ``"supplement"`` gives ``sqrt(3)/4`` times the measured convention's ``g``).
+    e_bulk/2)`` with ``e_bulk = sqrt(3) k eps^2 (1 + nu)/(1 - nu)``. ``nu < 1/3`` needs
+    ``k_area < 0``; ``nu = 1`` has no finite particle. ``tiling="triangle"``: the same ``kc`` and
+    ``k_area``; ``g`` from that tiling's ``e_bulk`` and line tension (``mapping``).
+
+    Parameters
+    ----------
+    ell : array_like
+        Boundary-layer length, lattice spacings, positive and finite.
+    nu : array_like
+        2D Poisson ratio, in (-1, 1).
+    Gamma : array_like
+        Dimensionless line tension, ``>= 0``.
+    k : array_like, optional
+        Triangle spring stiffness (the energy unit), ``> 0``.
+    eps : array_like, optional
+        Mismatch, in (0, 1).
+    tiling : {'hexagon', 'triangle'}, optional
+        The particle's tiling.
+    convention : {'measured', 'supplement'}, optional
+        How ``gamma`` relates to ``g`` (module docstring): ``'measured'`` (default, every figure)
+        ``gamma = g``; ``'supplement'`` the printed ``gamma = 4 g / sqrt(3)`` (hexagons only).
+        ``"supplement"`` gives ``sqrt(3)/4`` times the measured convention's ``g`` for the same
+        ``Gamma``: the paper's ``Gamma = 0.5`` read in the supplement's convention is our 0.217.
+
+    Returns
+    -------
+    ParticleParameters
+        ``kc``, ``k_area`` and ``g`` (per bound pair of sides, in units of ``k``).
+
+    Raises
+    ------
+    ValueError
+        For any parameter out of range (named).
+
+    Examples
+    --------
+    The binding energy of the paper's point ``ell = 5, nu = 0.9, Gamma = 0.5``, both ways:
+
+    >>> from pyfrustrate import continuum
+    >>> p = continuum.particle_parameters(ell=5.0, nu=0.9, Gamma=0.5)
+    >>> round(float(p.kc), 6), round(float(p.g), 8)
+    (0.05, 0.00781588)
+    >>> s = continuum.particle_parameters(ell=5.0, nu=0.9, Gamma=0.5, convention="supplement")
+    >>> round(float(s.g / p.g), 4)  # sqrt(3)/4
+    0.433
     """
     factor, _ = _tiling_constants(tiling, convention)
     ell = _checked("ell", ell, lo=0.0, lo_open=True)
@@ -214,6 +374,27 @@ def chain_ell(kc_over_k):
     ``ell = 1/ln[1 + x + sqrt(2 x + x^2)]``, ``x = kc/k``: the decay of the corner shift under
     ``k (d_{i+1} - 2 d_i + d_{i-1}) = 2 kc d_i`` (printed Eq. 2 drops the 2).
     ``ell ~ 1/sqrt(2 x)`` for small ``x``; ``x = 0`` gives ``inf``.
+
+    Parameters
+    ----------
+    kc_over_k : array_like
+        ``kc / k``, ``>= 0``.
+
+    Returns
+    -------
+    ndarray
+        ``ell``, in particles.
+
+    Raises
+    ------
+    ValueError
+        For a negative or non-numeric ratio.
+
+    Examples
+    --------
+    >>> from pyfrustrate import continuum
+    >>> round(float(continuum.chain_ell(0.01)), 4)
+    7.077
     """
     x = _checked("kc_over_k", kc_over_k, lo=0.0, finite=False)
     with np.errstate(divide="ignore"):
@@ -262,6 +443,38 @@ def fiber_energy(w, nu, Gamma):
     ``w = inf`` is the bulk (1). Evaluated as the sum of positive terms
     ``(1 - nu)/2 + (1 + nu)(y - tanh y)/(2 y) + (1 + nu) Gamma/w``, ``y = w/2``, so narrow
     fibres keep full relative precision (the energy -> 0 as nu -> 1).
+
+    A discrete fibre's ``W`` is its ``Topology.size`` (area per unit length, in lattice
+    spacings: ``width * sqrt(3)/2`` for a cut-0 fibre of ``width`` rows), not its row count;
+    its deformation energy per particle over ``bulk_energy_per_particle`` compares with this at
+    ``Gamma = 0`` (``relax`` leaves the binding out).
+
+    Parameters
+    ----------
+    w : array_like
+        Width in units of ``ell``, ``> 0`` (``inf`` allowed).
+    nu : array_like
+        2D Poisson ratio, in (-1, 1].
+    Gamma : array_like
+        Dimensionless line tension, ``>= 0`` (``Gamma = 2 gamma / ((1 + nu) ell e_bulk)``).
+
+    Returns
+    -------
+    ndarray
+        Energy per unit area over ``e_bulk``, broadcast over the arguments.
+
+    Raises
+    ------
+    ValueError
+        For arguments out of range (named).
+
+    Examples
+    --------
+    >>> from pyfrustrate import continuum
+    >>> round(float(continuum.fiber_energy(2.0, 0.5, 0.0)), 4)
+    0.4288
+    >>> continuum.fiber_energy([1.0, 2.0, 4.0], 0.5, 0.2).round(4)
+    array([0.6068, 0.5788, 0.7135])
     """
     w = _checked("w", w, lo=0.0, lo_open=True, finite=False)
     nu = _checked("nu", nu, lo=-1.0, hi=1.0, lo_open=True)
@@ -283,6 +496,24 @@ def fiber_displacement(x, w, nu):
 
     Main text Eq. 9 (correct as printed): ``(1 + nu) sinh(x)/cosh(w/2)``, ``|x| <= w/2``, along
     the fibre's normal; ``u_down = -u_up``. Written with ``exp(|x| - w/2)``: no overflow.
+
+    Parameters
+    ----------
+    x : array_like
+        Distance from the fibre's midline, in ``ell``, ``|x| <= w/2``.
+    w : array_like
+        Width in ``ell``, ``> 0``.
+    nu : array_like
+        2D Poisson ratio, in (-1, 1].
+
+    Returns
+    -------
+    ndarray
+
+    Raises
+    ------
+    ValueError
+        For arguments out of range (named), or ``|x| > w/2``.
     """
     x = _checked("x", x)
     w = _checked("w", w, lo=0.0, lo_open=True)
@@ -335,7 +566,31 @@ def optimal_width(nu, Gamma):
 
     Stationarity: ``tanh(w/2) - (w/2) sech^2(w/2) = Gamma``, whose left side rises from 0 to 1,
     so ``W*`` is finite iff ``Gamma < 1`` (the fibre then beats the bulk) and ``inf`` otherwise;
-    0 at ``Gamma = 0``. Independent of ``nu`` (broadcast only).
+    0 at ``Gamma = 0``. Independent of ``nu`` (broadcast only). Multiply by ``ell`` for lattice
+    spacings, and divide those by ``sqrt(3)/2`` for rows of a cut-0 fibre.
+
+    Parameters
+    ----------
+    nu : array_like
+        2D Poisson ratio, in (-1, 1].
+    Gamma : array_like
+        Dimensionless line tension, ``>= 0`` (``Gamma = 2 gamma / ((1 + nu) ell e_bulk)``).
+
+    Returns
+    -------
+    ndarray
+        ``W*/ell``.
+
+    Raises
+    ------
+    ValueError
+        For arguments out of range (named).
+
+    Examples
+    --------
+    >>> from pyfrustrate import continuum
+    >>> continuum.optimal_width(0.9, [0.0, 0.5, 1.0]).round(4)
+    array([0.    , 2.5075,    inf])
     """
     nu, Gamma, shape = _nu_gamma(nu, Gamma)
     return _out(_fiber_optimum(Gamma)[0].reshape(shape))
@@ -409,7 +664,33 @@ def disk_energy(r, nu, Gamma):
     functions at ``r``. With ``I0 - I2 = 2 I1/r`` this is
     ``1/(1 + (1 + nu) I1/(r I2)) + (1 + nu) Gamma/r``, free of cancellation for small disks.
     It follows from ``E = E(u=0) + L[u*]/2`` (quadratic functional, ``L`` its linear part):
-    ``1 - u_up(R)/(eps R)`` plus the line tension. ``r = inf`` is the bulk (1).
+    ``1 - u_up(R)/(eps R)`` plus the line tension. ``r = inf`` is the bulk (1). A discrete
+    disk's ``R`` is its ``Topology.size`` (the radius of the disk of equal area).
+
+    Parameters
+    ----------
+    r : array_like
+        Radius in units of ``ell``, ``> 0`` (``inf`` allowed).
+    nu : array_like
+        2D Poisson ratio, in (-1, 1].
+    Gamma : array_like
+        Dimensionless line tension, ``>= 0`` (``Gamma = 2 gamma / ((1 + nu) ell e_bulk)``).
+
+    Returns
+    -------
+    ndarray
+        Energy per unit area over ``e_bulk``.
+
+    Raises
+    ------
+    ValueError
+        For arguments out of range (named).
+
+    Examples
+    --------
+    >>> from pyfrustrate import continuum
+    >>> round(float(continuum.disk_energy(2.0, 0.5, 0.0)), 4)
+    0.3661
     """
     r = _checked("r", r, lo=0.0, lo_open=True, finite=False)
     nu = _checked("nu", nu, lo=-1.0, hi=1.0, lo_open=True)
@@ -425,6 +706,24 @@ def disk_displacement(rho, r, nu):
     ``D = I0 + I2 + nu (I0 - I2)``, ``0 <= rho <= r``, ``u_down = -u_up``; it follows from the
     free-edge condition ``(lam + 2 mu) u'(R) + lam u(R)/R = 2 eps (lam + mu)``. Uses ``ive``
     so that ``e^r`` cancels.
+
+    Parameters
+    ----------
+    rho : array_like
+        Distance from the centre, in ``ell``, ``0 <= rho <= r``.
+    r : array_like
+        Disk radius, in ``ell``, ``> 0``.
+    nu : array_like
+        2D Poisson ratio, in (-1, 1].
+
+    Returns
+    -------
+    ndarray
+
+    Raises
+    ------
+    ValueError
+        For arguments out of range (named), or ``rho > r``.
     """
     rho = _checked("rho", rho, lo=0.0)
     r = _checked("r", r, lo=0.0, lo_open=True)
@@ -502,6 +801,29 @@ def optimal_radius(nu, Gamma):
     ``nu < 1/2``, so ``R*`` stays finite slightly above ``Gamma = 1`` and jumps to ``inf`` at
     the disk-bulk boundary ``Gamma = max_r s(r)`` (first order). ``inf`` where the bulk is at
     least as good as every finite disk, 0 at ``Gamma = 0``.
+
+    Parameters
+    ----------
+    nu : array_like
+        2D Poisson ratio, in (-1, 1].
+    Gamma : array_like
+        Dimensionless line tension, ``>= 0`` (``Gamma = 2 gamma / ((1 + nu) ell e_bulk)``).
+
+    Returns
+    -------
+    ndarray
+        ``R*/ell``.
+
+    Raises
+    ------
+    ValueError
+        For arguments out of range (named).
+
+    Examples
+    --------
+    >>> from pyfrustrate import continuum
+    >>> continuum.optimal_radius(0.9, [0.0, 0.5, 2.0]).round(4)
+    array([0.    , 2.3934,    inf])
     """
     nu, Gamma, shape = _nu_gamma(nu, Gamma)
     return _out(_disk_optimum(nu, Gamma)[0].reshape(shape))
@@ -510,9 +832,36 @@ def optimal_radius(nu, Gamma):
 # Phase diagram (Fig. 3a)
 
 def phase(nu, Gamma):
-    """Lowest energy per unit area among optimal fibre (Eq. 10), optimal disk (corrected
-    Eq. 13) and bulk (1): an array of ``'bulk'``, ``'fiber'`` or ``'disk'``. Ties go to the
-    bulk, then to the fibre (e.g. ``nu = 1, Gamma = 0``, where both reach 0)."""
+    """The phase of lowest energy per unit area (Fig. 3a).
+
+    Among the optimal fibre (Eq. 10), the optimal disk (corrected Eq. 13) and the bulk (1). Ties
+    go to the bulk, then to the fibre (e.g. ``nu = 1, Gamma = 0``, where both reach 0).
+
+    Parameters
+    ----------
+    nu : array_like
+        2D Poisson ratio, in (-1, 1].
+    Gamma : array_like
+        Dimensionless line tension, ``>= 0`` (``Gamma = 2 gamma / ((1 + nu) ell e_bulk)``).
+
+    Returns
+    -------
+    ndarray of str
+        ``'bulk'``, ``'fiber'`` or ``'disk'``.
+
+    Raises
+    ------
+    ValueError
+        For arguments out of range (named).
+
+    Examples
+    --------
+    >>> from pyfrustrate import continuum
+    >>> continuum.phase([0.1, 0.5, 0.9], 0.5)
+    array(['disk', 'disk', 'fiber'], dtype='<U5')
+    >>> str(continuum.phase(0.9, 1.5))
+    'bulk'
+    """
     nu, Gamma, shape = _nu_gamma(nu, Gamma)
     ff, fd = _fiber_optimum(Gamma)[1], _disk_optimum(nu, Gamma)[1]
     out = np.where(np.minimum(ff, fd) >= 0.0, "bulk", np.where(fd < ff, "disk", "fiber"))
@@ -523,12 +872,19 @@ def phase(nu, Gamma):
 class CriticalLineTensions:
     """Phase boundaries of Fig. 3a at given ``nu`` (ndarrays, nan where absent).
 
-    ``fiber_bulk``: 1 (fibres beat the bulk iff ``Gamma < 1``). ``disk_bulk``: ``max_r s(r)``,
-    above 1 for ``nu < 1/2``, else 1. ``disk_fiber``: the ``Gamma`` below which disks beat
-    fibres. ``disk_fiber_upper``: for ``nu_c < nu < 1/2`` (``nu_c ~ 0.4496``) fibres only win in
-    ``disk_fiber < Gamma < disk_fiber_upper`` and disks again above, up to ``disk_bulk``; it
-    tends to 1 at the triple point ``(nu, Gamma) = (1/2, 1)`` (set to 1 there). Below ``nu_c``
-    disks win for every ``Gamma < disk_bulk`` and both disk-fibre entries are nan.
+    Attributes
+    ----------
+    fiber_bulk : ndarray
+        1 (fibres beat the bulk iff ``Gamma < 1``).
+    disk_bulk : ndarray
+        ``max_r s(r)``, above 1 for ``nu < 1/2``, else 1.
+    disk_fiber : ndarray
+        The ``Gamma`` below which disks beat fibres.
+    disk_fiber_upper : ndarray
+        For ``nu_c < nu < 1/2`` (``nu_c ~ 0.4496``) fibres only win in
+        ``disk_fiber < Gamma < disk_fiber_upper`` and disks again above, up to ``disk_bulk``; it
+        tends to 1 at the triple point ``(nu, Gamma) = (1/2, 1)`` (set to 1 there). Below ``nu_c``
+        disks win for every ``Gamma < disk_bulk`` and both disk-fibre entries are nan.
     """
 
     fiber_bulk: np.ndarray
@@ -543,7 +899,29 @@ def critical_line_tensions(nu):
     ``Delta(Gamma) = min e_disk - min e_fiber`` has slope ``1/R* - 1/W*`` (envelope theorem),
     so it peaks where ``R* = W* = x``: at the first ``x`` with ``q(x) = H(x/2)``, where
     ``Delta = (tanh(x/2) - s(x))/x``. The disk-fibre boundaries are the roots of ``Delta`` on
-    either side of that peak. Returns a ``CriticalLineTensions`` shaped like ``nu``.
+    either side of that peak.
+
+    Parameters
+    ----------
+    nu : array_like
+        2D Poisson ratio, in (-1, 1].
+
+    Returns
+    -------
+    CriticalLineTensions
+        Shaped like ``nu``.
+
+    Raises
+    ------
+    ValueError
+        For ``nu`` out of range.
+
+    Examples
+    --------
+    >>> from pyfrustrate import continuum
+    >>> c = continuum.critical_line_tensions([0.2, 0.9])
+    >>> c.disk_bulk.round(4), c.disk_fiber.round(4)
+    (array([1.044, 1.   ]), array([   nan, 0.1221]))
     """
     nu = _checked("nu", nu, lo=-1.0, hi=1.0, lo_open=True)
     flat = nu.ravel()

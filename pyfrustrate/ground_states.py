@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from . import ansatz, topology
+from . import _checks, ansatz, topology
 from ._checks import integer
 from .relaxation import relax
 
@@ -45,9 +45,26 @@ _NEIGHBOURS = tuple(tuple(int(x) for x in d) for d in topology.neighbour_sites((
 
 @dataclass(frozen=True)
 class BoxCandidates(ansatz.EnergiesLinearInG):
-    """Candidate ground states of ``n`` particles in a periodic ``box``: one entry per candidate,
-    ``family`` (str), ``deformation`` (relaxed), ``bonds``, ``sites`` (a tuple of (n, 2) arrays of
-    box cells, 0 <= i, j < box) and ``converged``."""
+    """Candidate ground states of ``n`` particles in a periodic ``box``, from ``box_candidates``.
+
+    Energies are linear in the binding: candidate ``i`` has total energy
+    ``deformation[i] - g * bonds[i]`` (``total``, ``best``, ``best_energy``).
+
+    Attributes
+    ----------
+    n, box : int
+        Particles and box side (lattice steps).
+    family : ndarray of str
+        ``single``, ``wrapping_fiber``, ``aggregates{m}`` or ``gas`` (module docstring).
+    deformation : ndarray
+        Relaxed deformation energy of each candidate (whole box).
+    bonds : ndarray of int
+        Bound pairs of sides of each candidate.
+    sites : tuple of ndarray
+        Each candidate's sites, shape (n, 2), box cells ``0 <= i, j < box``.
+    converged : ndarray of bool
+        The minimiser's verdict.
+    """
 
     n: int
     box: int
@@ -58,19 +75,45 @@ class BoxCandidates(ansatz.EnergiesLinearInG):
     converged: np.ndarray
 
     def best_family(self, g):
-        """Family (``FAMILIES``, ``aggregates`` with its count) of the best candidate at each ``g``."""
+        """Family of the best candidate at each binding energy ``g``.
+
+        Parameters
+        ----------
+        g : array_like
+            Binding energies per bound pair of sides.
+
+        Returns
+        -------
+        ndarray of str
+            ``FAMILIES``, ``aggregates`` with its count.
+        """
         return self.family[self.best(g)]
 
     @classmethod
     def from_arrays(cls, arrays) -> "BoxCandidates":
-        """Rebuild from a mapping with one entry per field (a saved ``.npz``, ``sites`` stacked,
-        keys prefixed ``candidate_``)."""
+        """Rebuild from a mapping with one entry per field (a saved ``.npz``, ``sites`` stacked, keys
+        prefixed ``candidate_``).
+
+        Parameters
+        ----------
+        arrays : mapping
+            As written by ``arrays``.
+
+        Returns
+        -------
+        BoxCandidates
+        """
         return cls(int(arrays["candidate_n"]), int(arrays["candidate_box"]), np.asarray(arrays["candidate_family"]),
                    np.asarray(arrays["candidate_deformation"], float), np.asarray(arrays["candidate_bonds"]),
                    tuple(np.asarray(arrays["candidate_sites"])), np.asarray(arrays["candidate_converged"], bool))
 
     def arrays(self) -> dict:
-        """The fields as arrays for ``io.save_npz`` (inverse of ``from_arrays``)."""
+        """The fields as arrays for ``io.save_npz`` (inverse of ``from_arrays``).
+
+        Returns
+        -------
+        dict
+        """
         return {"candidate_n": self.n, "candidate_box": self.box, "candidate_family": self.family.astype(str),
                 "candidate_deformation": self.deformation, "candidate_bonds": self.bonds,
                 "candidate_sites": np.stack(self.sites), "candidate_converged": self.converged}
@@ -131,9 +174,34 @@ def _gas_sites(n, box):
 
 
 def aggregate_counts(n: int, max_aggregates: int | None = None) -> list[int]:
-    """The numbers ``m`` of separate aggregates ``box_candidates`` tries for ``n`` particles: every
-    ``m`` from 2 to ``max_aggregates`` if given, else every ``m`` to 16 and then counts 1.25x apart
-    up to ``n // 7`` (aggregates of at least seven particles, one ring around a particle)."""
+    """The numbers ``m`` of separate aggregates ``box_candidates`` tries for ``n`` particles.
+
+    Every ``m`` from 2 to ``max_aggregates`` if given, else every ``m`` to 16 and then counts
+    1.25x apart up to ``n // 7`` (aggregates of at least seven particles, one ring around a
+    particle).
+
+    Parameters
+    ----------
+    n : int
+        Particles.
+    max_aggregates : int, optional
+        Largest count.
+
+    Returns
+    -------
+    list of int
+
+    Raises
+    ------
+    ValueError
+        For a bad ``max_aggregates``.
+
+    Examples
+    --------
+    >>> from pyfrustrate import ground_states
+    >>> ground_states.aggregate_counts(40), ground_states.aggregate_counts(40, max_aggregates=3)
+    ([2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16], [2, 3])
+    """
     if max_aggregates is not None:
         return list(range(2, integer("max_aggregates", max_aggregates, 1) + 1))
     counts, m = list(range(2, min(16, n // 2) + 1)), 16.0
@@ -147,11 +215,51 @@ def aggregate_counts(n: int, max_aggregates: int | None = None) -> list[int]:
 def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None, method: str = "lbfgs",
                    tol: float = 1e-5) -> BoxCandidates:
     """Candidate ground states of ``n`` particles in a periodic ``box x box`` lattice (module
-    docstring), relaxed with ``method`` to ``tol``; ``max_aggregates`` limits the separate
-    aggregates to counts 2 .. max_aggregates (default: ``aggregate_counts(n)``). Hexagon tiling."""
-    if getattr(particle, "tiling", "hexagon") != "hexagon":
+    docstring), relaxed with ``method`` to ``tol``. Hexagon tiling.
+
+    Parameters
+    ----------
+    particle : Hexagon or RandomHexagon
+        A particle of the hexagon tiling.
+    n : int
+        Particles, ``>= 1`` and fewer than ``box**2``.
+    box : int
+        Box side, lattice steps, ``>= 2``.
+    max_aggregates : int, optional
+        Limit the separate aggregates to counts 2 .. max_aggregates (default:
+        ``aggregate_counts(n)``).
+    method : {'auto', 'newton', 'lbfgs', 'linear'}, optional
+        As for ``relax``.
+    tol : float, optional
+        As for ``relax``.
+
+    Returns
+    -------
+    BoxCandidates
+
+    Raises
+    ------
+    TypeError
+        If ``particle`` is not a particle model.
+    ValueError
+        For a triangle-tiling particle, bad ``n`` or ``box``, or a box too large for memory.
+
+    Examples
+    --------
+    >>> from pyfrustrate import Hexagon, ansatz, ground_states
+    >>> p = Hexagon.from_continuum(ell=2.0, nu=0.9)
+    >>> c = ground_states.box_candidates(p, 12, 8, max_aggregates=2)
+    >>> g = ansatz.binding_energy_of(p, 2.0, 0.9, Gamma=0.5)
+    >>> str(c.best_family(g)), bool(c.converged.all())
+    ('single', True)
+    """
+    if _checks.particle("particle", particle).tiling != "hexagon":
         raise ValueError("particle: box ground states are built for hexagon tilings only")
     n, box = integer("n", n, 1), integer("box", box, 2)
+    # Occupancy grids and placement offsets per box cell (a list of tuples, the largest), the
+    # topologies of n particles and the grids their shapes are cut from.
+    _checks.affordable(f"box_candidates(n={n}, box={box})", box * box * 64 + n * (
+        topology.TOPOLOGY_BYTES_PER_PARTICLE + 16 * topology.GRID_BYTES_PER_CELL["stadium_sites"]))
     if n >= box * box:
         raise ValueError(f"n must be smaller than the box's {box * box} sites, got {n}")
     counts = aggregate_counts(n, max_aggregates)  # checks max_aggregates before any relaxation
@@ -201,20 +309,49 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
 
 
 def box_bonds(sites, box) -> int:
-    """Bound pairs of sides among particles on ``sites`` of the periodic ``box`` (edge neighbours,
-    each pair once): what a run's energy counts ``-g`` for, to compare with a candidate's."""
+    """Bound pairs of sides among particles on ``sites`` of the periodic ``box``.
+
+    Edge neighbours, each pair once: what a run's energy counts ``-g`` for, to compare with a
+    candidate's.
+
+    Parameters
+    ----------
+    sites : array_like of int, shape (n, 2)
+        Occupied sites (wrapped into the box).
+    box : int
+        Box side.
+
+    Returns
+    -------
+    int
+    """
     occupied = {tuple(s) for s in _in_box(sites, box).tolist()}
     return sum(((i + a) % box, (j + b) % box) in occupied for i, j in occupied for a, b in _NEIGHBOURS) // 2
 
 
 def structure(sites, box, major: float = 0.1) -> str:
-    """The structure of a box configuration in the terms of ``box_candidates``' families, from
-    its clusters alone (no anisotropy threshold): ``"gas"`` (no cluster of 3 or more),
+    """The structure of a box configuration in the terms of ``box_candidates``' families.
+
+    From its clusters alone (no anisotropy threshold): ``"gas"`` (no cluster of 3 or more),
     ``"bulk"`` (a cluster wraps the box both ways), ``"wrapping_fiber"`` (one way), ``"single"``
     (one cluster holds all but ``major`` of the particles), else ``"aggregates{m}"`` with ``m``
     the clusters of at least 3 particles and at least ``major`` times the largest one's
     (``"aggregates1"``: one such cluster and much smaller ones). Relative to the largest cluster,
-    not to ``n``, since a large box's ground state can hold more than 1 / ``major`` aggregates."""
+    not to ``n``, since a large box's ground state can hold more than 1 / ``major`` aggregates.
+
+    Parameters
+    ----------
+    sites : array_like of int, shape (n, 2)
+        Occupied sites.
+    box : int
+        Box side.
+    major : float, optional
+        Fraction of the largest cluster below which a cluster does not count.
+
+    Returns
+    -------
+    str
+    """
     from .montecarlo import clusters
     parts = clusters(np.asarray(sites, int), int(box))
     n = sum(len(c) for c, _ in parts)

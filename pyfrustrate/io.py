@@ -22,7 +22,30 @@ import numpy as np
 
 @contextlib.contextmanager
 def atomic_path(path, suffix: str = ""):
-    """Yield a temporary path beside ``path``; move it onto ``path`` if the block succeeds."""
+    """A temporary path beside ``path``, moved onto ``path`` if the block succeeds (context manager).
+
+    Parameters
+    ----------
+    path : str or Path
+        The target; its directory is created.
+    suffix : str, optional
+        Suffix of the temporary file (default: the target's).
+
+    Yields
+    ------
+    Path
+        Where to write; removed if the block raises.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from pyfrustrate.io import atomic_path
+    >>> target = pathlib.Path(tempfile.mkdtemp()) / "result.txt"
+    >>> with atomic_path(target) as tmp:
+    ...     _ = tmp.write_text("done")
+    >>> target.read_text()
+    'done'
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix or path.suffix, dir=path.parent)
@@ -47,8 +70,26 @@ PROVENANCE_KEY = "provenance"
 
 
 def save_npz(path, *, provenance: dict | None = None, **arrays) -> None:
-    """Atomically write a compressed ``.npz`` of named arrays (and the provenance record, as a
-    JSON string under PROVENANCE_KEY)."""
+    """Atomically write a compressed ``.npz`` of named arrays.
+
+    Parameters
+    ----------
+    path : str or Path
+        The target.
+    provenance : dict, optional
+        Stored as a JSON string under ``PROVENANCE_KEY`` (``provenance.describe``).
+    **arrays
+        The arrays, by name.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from pyfrustrate import io
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "a.npz"
+    >>> io.save_npz(path, provenance={"seed": 1}, x=[1, 2])
+    >>> io.load_npz(path)["x"].tolist(), io.read_provenance(path)
+    ([1, 2], {'seed': 1})
+    """
     if provenance is not None:
         arrays[PROVENANCE_KEY] = np.array(json.dumps(provenance, sort_keys=True, default=_to_builtin))
     with atomic_path(path, ".npz") as tmp:
@@ -56,15 +97,39 @@ def save_npz(path, *, provenance: dict | None = None, **arrays) -> None:
 
 
 def load_npz(path) -> dict:
-    """Read an ``.npz`` written by ``save_npz`` into a plain dict of arrays (without the
-    provenance record: ``read_provenance`` reads that)."""
+    """Read an ``.npz`` written by ``save_npz`` into a plain dict of arrays (without the provenance
+    record: ``read_provenance`` reads that).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    dict of ndarray
+    """
     with np.load(path, allow_pickle=False) as data:
         return {k: data[k] for k in data.files if k != PROVENANCE_KEY}
 
 
 def save_json(path, obj, *, provenance: dict | None = None) -> None:
-    """Atomically write ``obj`` as indented JSON (with the provenance record under
-    PROVENANCE_KEY when ``obj`` is a dict)."""
+    """Atomically write ``obj`` as indented JSON.
+
+    Parameters
+    ----------
+    path : str or Path
+        The target.
+    obj : object
+        JSON-serialisable (numpy scalars and arrays are converted).
+    provenance : dict, optional
+        Stored under ``PROVENANCE_KEY``; ``obj`` must then be a dict without that key.
+
+    Raises
+    ------
+    ValueError
+        If a provenance record cannot be added to ``obj``.
+    """
     if provenance is not None:
         if not isinstance(obj, dict) or PROVENANCE_KEY in obj:
             raise ValueError(f"save_json: a provenance record needs a dict without a '{PROVENANCE_KEY}' key")
@@ -74,12 +139,39 @@ def save_json(path, obj, *, provenance: dict | None = None) -> None:
 
 
 def provenance_line(provenance: dict) -> str:
-    """The first line of a CSV result: a comment holding the provenance record."""
+    """The first line of a CSV result: a comment holding the provenance record.
+
+    Parameters
+    ----------
+    provenance : dict
+        A provenance record (``provenance.describe``).
+
+    Returns
+    -------
+    str
+        Ending in a newline.
+    """
     return f"# {PROVENANCE_KEY}: {json.dumps(provenance, sort_keys=True, default=_to_builtin)}\n"
 
 
 def read_provenance(path) -> dict | None:
-    """The provenance record stored with a result file (.npz, .json, .csv, .png), or None."""
+    """The provenance record stored with a result file.
+
+    Parameters
+    ----------
+    path : str or Path
+        A ``.npz``, ``.json``, ``.csv`` or ``.png`` file.
+
+    Returns
+    -------
+    dict or None
+        None when the file has none.
+
+    Raises
+    ------
+    ValueError
+        For another suffix.
+    """
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".npz":
@@ -111,10 +203,18 @@ def _to_builtin(value):
 
 @contextlib.contextmanager
 def sigterm_raises():
-    """Within the block, SIGTERM (Snakemake cancelling its jobs, a scheduler pre-empting one, a
-    plain ``kill``) raises SystemExit instead of ending the process on the spot, so that
-    ``except`` and ``finally`` blocks run: an annealing run saves its checkpoint before it stops.
-    Only the main thread can handle signals; elsewhere the block runs unchanged."""
+    """Within the block, SIGTERM raises ``SystemExit`` instead of ending the process on the spot
+    (context manager).
+
+    SIGTERM is how Snakemake cancels its jobs, a scheduler pre-empts one, or a plain ``kill``
+    stops one; raising lets ``except`` and ``finally`` blocks run: an annealing run saves its
+    checkpoint before it stops. Only the main thread can handle signals; elsewhere the block runs
+    unchanged.
+
+    Yields
+    ------
+    None
+    """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -131,7 +231,17 @@ def sigterm_raises():
 
 @contextlib.contextmanager
 def logging_to(path):
-    """Send stdout and stderr of a workflow script to its ``log:`` file."""
+    """Send stdout and stderr of a workflow script to its ``log:`` file (context manager).
+
+    Parameters
+    ----------
+    path : str or Path or None
+        The log file; None leaves the streams alone.
+
+    Yields
+    ------
+    None
+    """
     if path is None:
         yield
         return

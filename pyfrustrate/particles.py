@@ -20,24 +20,46 @@ from . import _kernel, continuum
 
 @runtime_checkable
 class Particle(Protocol):
-    """What the package asks of a particle model.
+    """What the package asks of a particle model (a ``typing.Protocol``, checkable with
+    ``isinstance``).
 
-    ``tiling``: the tiling its topologies use (``topology.TILINGS``). ``eps``: the mismatch.
-    ``force_scale``: a typical corner force (the unit of relaxation tolerances).
-    ``bulk_energy_per_particle``: the leading-order deformation energy of a bulk particle.
-    ``_kernel_model``: the kernel's evaluator (its class carries ``corner_count``,
-    ``point_group``, ``rest_corners()``, ``energy_of_displacement``, ``without_mismatch``).
-    Instances are immutable and pickle by their parameters.
+    Instances are immutable and pickle by their parameters. Every entry point that takes a
+    particle refuses anything else with a ``TypeError`` naming the parameter
+    (``pyfrustrate._checks.particle``).
+
+    Attributes
+    ----------
+    tiling : str
+        The tiling its topologies use (``topology.TILINGS``).
+    eps : float
+        The mismatch (dimensionless, in (0, 1)).
+    force_scale : float
+        A typical corner force (the unit of relaxation tolerances).
+    bulk_energy_per_particle : float
+        The leading-order deformation energy of a bulk particle.
+    _kernel_model : object
+        The kernel's evaluator (its class carries ``corner_count``, ``point_group``,
+        ``rest_corners()``, ``energy_of_displacement``, ``without_mismatch``).
+
+    Examples
+    --------
+    >>> from pyfrustrate import Hexagon, Particle, RandomHexagon
+    >>> isinstance(Hexagon(), Particle), isinstance(RandomHexagon.draw(seed=1), Particle)
+    (True, True)
     """
 
     tiling: str
     eps: float
 
     @property
-    def force_scale(self) -> float: ...
+    def force_scale(self) -> float:
+        """A typical corner force: the unit of relaxation tolerances."""
+        ...
 
     @property
-    def bulk_energy_per_particle(self) -> float: ...
+    def bulk_energy_per_particle(self) -> float:
+        """The leading-order deformation energy of a bulk particle."""
+        ...
 
 
 def _real(name: str, value) -> float:
@@ -90,11 +112,47 @@ class _SpringParticle:
 
     @classmethod
     def from_continuum(cls, ell: float, nu: float, eps: float = 0.01, k: float = 1.0):
-        """The particle whose continuum limit has boundary-layer length ``ell`` and Poisson ratio
-        ``nu`` (inverse of supplement S1, the same for both tilings): ``kc = k / (8 (1 - nu) ell^2)``,
+        """The particle whose continuum limit has boundary-layer length ``ell`` and Poisson ratio ``nu``.
+
+        Inverse of supplement S1, the same for both tilings: ``kc = k / (8 (1 - nu) ell^2)``,
         ``k_area = sqrt(3) k (3 nu - 1) / (2 (1 - nu))``, for ``-1 < nu < 1``: negative ``nu``
         (auxetic sheets) takes ``k_area`` below ``-sqrt(3) k / 2``, down to the stability limit
-        ``-sqrt(3) k`` at ``nu = -1``. ``nu = 1`` is singular (``k_area`` infinite): use ``nu < 1``."""
+        ``-sqrt(3) k`` at ``nu = -1``. ``nu = 1`` is singular (``k_area`` infinite): use ``nu < 1``.
+        The binding is not a property of the particle: it enters as ``g`` where energies are totalled
+        (``continuum.particle_parameters(ell, nu, Gamma).g``).
+
+        Parameters
+        ----------
+        ell : float
+            Boundary-layer length, in lattice spacings, positive and finite.
+        nu : float
+            2D Poisson ratio, in (-1, 1).
+        eps : float, optional
+            Mismatch, in (0, 1).
+        k : float, optional
+            Stiffness of the triangle springs (the energy unit), positive.
+
+        Returns
+        -------
+        Hexagon or Triangle
+            Of the class it is called on.
+
+        Raises
+        ------
+        TypeError
+            If a parameter is not a real number.
+        ValueError
+            If a parameter is out of range, or ``ell``/``nu`` lie beyond floating point.
+
+        Examples
+        --------
+        >>> from pyfrustrate import Hexagon
+        >>> p = Hexagon.from_continuum(ell=2.0, nu=0.5)
+        >>> p
+        Hexagon(k=1.0, kc=0.0625, k_area=0.866..., eps=0.01)
+        >>> float(p.continuum.ell), float(p.continuum.nu)
+        (2.0, 0.5)
+        """
         if not np.isfinite(_real("ell", ell)) or ell <= 0:
             raise ValueError(f"ell must be positive and finite, got {ell!r}")
         if not (-1 < _real("nu", nu) < 1):
@@ -112,32 +170,60 @@ class _SpringParticle:
 
     @property
     def continuum(self):
-        """Continuum parameters (``mu, nu, lam, kappa_c, ell, e_bulk``; supplement S1) at g = 0."""
+        """Continuum parameters at ``g = 0`` (``continuum.ContinuumParameters``: ``mu, nu, lam,
+        kappa_c, ell, e_bulk``; supplement S1), ``ell`` in lattice spacings.
+        """
         return continuum.mapping(self.k, self.kc, self.k_area, 0.0, self.eps, tiling=self.tiling)
 
     @property
     def force_scale(self) -> float:
         """Typical force on a corner, ``eps * max(k, |k_area|, kc)``: the unit of the relaxation
-        tolerance (stiff areal terms at nu -> 1 raise both the forces and the precision floor)."""
+        tolerance (stiff areal terms at nu -> 1 raise both the forces and the precision floor).
+        """
         return self.eps * max(self.k, abs(self.k_area), self.kc)
 
     @property
     def bulk_energy_per_particle(self) -> float:
-        """Leading-order bulk deformation energy per particle, ``(3 k + sqrt(3) k_area) eps^2``
-        (= e_bulk times the area per particle, main text Eq. 8; the same for both tilings)."""
+        """Leading-order bulk deformation energy per particle, ``(3 k + sqrt(3) k_area) eps^2``.
+
+        It is ``e_bulk`` (main text Eq. 8) times the area per particle, the same for both tilings:
+        dividing a relaxed energy per particle by it gives the continuum's energy per unit area in
+        units of ``e_bulk``.
+        """
         return (3 * self.k + np.sqrt(3) * self.k_area) * self.eps ** 2
 
     def evaluate(self, corners) -> dict:
-        """Energy terms (``triangles, connecting, area, energy``), gradient (12,) and Hessian
-        (12, 12) of one particle from its corners, shape (6, 2) or (12,), in the kernel's slot
-        order (``Hexagon``: counter-clockwise from 30 degrees, even slots red; ``Triangle``:
-        yellow nodes at the vertices v0, v1, v2, then red ones)."""
+        """Energy terms, gradient and Hessian of one particle from its corners.
+
+        Parameters
+        ----------
+        corners : array_like, shape (6, 2) or (12,)
+            Corner positions in lattice spacings, in the kernel's slot order (``Hexagon``:
+            counter-clockwise from 30 degrees, even slots red; ``Triangle``: yellow nodes at the
+            vertices v0, v1, v2, then red ones).
+
+        Returns
+        -------
+        dict
+            ``triangles``, ``connecting``, ``area`` (the energy's terms), ``energy`` (their sum),
+            ``gradient`` (12,) and ``hessian`` (12, 12).
+
+        Raises
+        ------
+        ValueError
+            For a wrong shape or non-finite corners.
+        """
         return self._kernel_model.evaluate(_corners(corners))
 
 
 @dataclass(frozen=True)
 class Hexagon(_SpringParticle):
-    """Hexagonal ill-fitting particle.
+    """Hexagonal ill-fitting particle (main text Fig. 2a).
+
+    A yellow triangle of springs ``k`` with rest length ``1 + eps`` and a red one with rest length
+    ``1 - eps`` share a centre; six connecting springs ``kc`` form the hexagon's sides. Lengths are
+    in lattice spacings, energies in units of ``k`` times a squared lattice spacing. Usually made
+    by ``Hexagon.from_continuum(ell, nu)``.
 
     Parameters
     ----------
@@ -152,7 +238,21 @@ class Hexagon(_SpringParticle):
     eps : float
         Mismatch, in (0, 1).
 
-    Invalid values raise ``ValueError`` naming the parameter.
+    Raises
+    ------
+    TypeError
+        If a parameter is not a real number.
+    ValueError
+        If a parameter is out of range (named).
+
+    Examples
+    --------
+    >>> from pyfrustrate import Hexagon
+    >>> p = Hexagon(k=1.0, kc=0.05, k_area=0.0, eps=0.01)
+    >>> round(float(p.continuum.ell), 4), round(float(p.continuum.nu), 4)
+    (1.9365, 0.3333)
+    >>> round(float(p.bulk_energy_per_particle), 6)  # (3 k + sqrt(3) k_area) eps^2
+    0.0003
     """
 
     tiling: ClassVar[str] = "hexagon"
@@ -170,6 +270,26 @@ class Triangle(_SpringParticle):
     the nodes of their common edge. Same parameters, limits and continuum theory as ``Hexagon``
     (twice its sheet moduli, the same ``nu`` and ``ell``); line tension ``gamma = g/2``.
     Topologies for it take ``tiling="triangle"``.
+
+    Parameters
+    ----------
+    k, kc, k_area, eps : float
+        As for ``Hexagon``.
+
+    Raises
+    ------
+    TypeError
+        If a parameter is not a real number.
+    ValueError
+        If a parameter is out of range (named).
+
+    Examples
+    --------
+    >>> from pyfrustrate import Triangle, relax, topology
+    >>> t = Triangle.from_continuum(ell=2.0, nu=0.5)
+    >>> r = relax(t, topology.disk(1, tiling="triangle"))  # six triangles around a vertex
+    >>> r.converged, r.n_particles, r.n_bonds
+    (True, 6, 6)
     """
 
     tiling: ClassVar[str] = "triangle"
@@ -181,7 +301,23 @@ PARTICLE_OF_TILING = {"hexagon": Hexagon, "triangle": Triangle}
 
 
 def particle_class(tiling: str):
-    """The spring particle model of a tiling (``Hexagon`` or ``Triangle``)."""
+    """The spring particle model of a tiling.
+
+    Parameters
+    ----------
+    tiling : {'hexagon', 'triangle'}
+        The tiling.
+
+    Returns
+    -------
+    type
+        ``Hexagon`` or ``Triangle``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown tiling.
+    """
     if tiling not in PARTICLE_OF_TILING:
         raise ValueError(f"tiling must be one of {tuple(PARTICLE_OF_TILING)}, got {tiling!r}")
     return PARTICLE_OF_TILING[tiling]

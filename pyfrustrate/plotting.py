@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import warnings
 from typing import Any
 
 import matplotlib
@@ -27,11 +28,69 @@ YELLOW, RED_CORNER, BLUE_SPRING = "#e6b800", "#d3002d", "#3b78c2"
 CORNER_COLORS = [RED_CORNER, YELLOW] * 3
 DISTANCE_COLORS = [YELLOW] * 3 + [RED_CORNER] * 3 + [BLUE_SPRING] * 3
 
+# The journal's print sizes (cm): one column, two columns, the tallest figure a page holds.
+COLUMN_WIDTH_CM, PAGE_WIDTH_CM, MAX_HEIGHT_CM = 8.6, 17.8, 23.0
+# Smallest type after placement (pt): every label, tick and legend; free annotations.
+MIN_TEXT_PT, MIN_ANNOTATION_PT = 7.0, 6.0
+
+# One style for every figure, drawn at its print size (no scaling afterwards): 7 pt type,
+# 8 pt bold panel letters, thin lines.
 STYLE: dict[str, Any] = {
-    "font.size": 9, "axes.labelsize": 9, "axes.titlesize": 9, "legend.fontsize": 8,
-    "xtick.labelsize": 8, "ytick.labelsize": 8, "figure.dpi": 150, "savefig.dpi": 200,
-    "axes.spines.top": False, "axes.spines.right": False, "pdf.fonttype": 42,
+    "font.size": 7, "axes.labelsize": 7, "axes.titlesize": 7, "legend.fontsize": 7,
+    "xtick.labelsize": 7, "ytick.labelsize": 7, "figure.titlesize": 8,
+    "figure.dpi": 150, "savefig.dpi": 300, "pdf.fonttype": 42, "ps.fonttype": 42,
+    "axes.spines.top": False, "axes.spines.right": False, "axes.linewidth": 0.6,
+    "axes.labelpad": 2.0, "axes.titlepad": 3.0,
+    "xtick.major.width": 0.6, "ytick.major.width": 0.6, "xtick.minor.width": 0.4, "ytick.minor.width": 0.4,
+    "xtick.major.size": 2.5, "ytick.major.size": 2.5, "xtick.minor.size": 1.5, "ytick.minor.size": 1.5,
+    "xtick.major.pad": 2.0, "ytick.major.pad": 2.0,
+    "lines.linewidth": 1.0, "lines.markersize": 3.5, "patch.linewidth": 0.6,
+    "legend.frameon": False, "legend.handlelength": 1.6, "legend.borderaxespad": 0.3,
+    "legend.labelspacing": 0.3, "legend.handletextpad": 0.5, "legend.columnspacing": 1.0,
+    "mathtext.fontset": "dejavusans",
 }
+PANEL_LETTER_PT = 8.0
+
+# One label per quantity, one unit per length (the particle lattice spacing, 1).
+LENGTH_UNIT = "particle spacings"
+LABELS = {
+    "Gamma": r"line tension $\Gamma$",
+    "nu": r"Poisson ratio $\nu$",
+    "energy": r"deformation energy per particle / $e_{\rm bulk}$",
+    "ell": r"boundary-layer length $\ell$",
+    "W": r"$W^*/\ell$",
+    "R": r"$R^*/\ell$",
+}
+
+
+# How the box structures of ground_states.FAMILIES (and "bulk") are written in figures.
+STRUCTURE_LABELS = {"single": "one aggregate", "wrapping_fiber": "fibre around the box",
+                    "aggregates": "several aggregates", "gas": "gas", "bulk": "bulk"}
+
+
+def gap_to_best_single(run, predictions):
+    """A Monte Carlo run's final energy above the best single aggregate of as many particles at
+    its nu and g (``ansatz.energy_above_best_single``), in bulk particle energies, from the
+    finite-size ``predictions`` (files of the montecarlo_finite_aggregates rule); None when none
+    matches the run's particle number and nu."""
+    from .ansatz import energy_above_best_single
+
+    for f in predictions:
+        if int(f["n"]) == int(run["n"]) and abs(float(f["nu"]) - float(run["nu"])) < 1e-9:
+            return energy_above_best_single(run["energy"], run["g"], f)
+    return None
+
+
+def structure_label(structure: str) -> str:
+    """A box structure (``STRUCTURE_LABELS``; "aggregatesN": N separate aggregates) in words."""
+    if structure.startswith("aggregates") and structure[len("aggregates"):].isdigit():
+        return f"{structure[len('aggregates'):]} aggregates"
+    return STRUCTURE_LABELS.get(structure, structure.replace("_", " "))
+
+
+def box_label(box: int) -> str:
+    """A periodic box of ``box`` x ``box`` sites, written one way in every figure."""
+    return rf"{int(box)}$\times${int(box)}"
 
 
 # Corner slots that outline a particle, in order (kernel slot order): the hexagon's six corners;
@@ -39,27 +98,55 @@ STYLE: dict[str, Any] = {
 OUTLINE_SLOTS = {"hexagon": [0, 1, 2, 3, 4, 5], "triangle": [0, 1, 2]}
 
 
-def figure(width_cm: float = 17.8, height_cm: float = 8.0, **kwargs):
-    """A figure in the journal's column widths (8.6 cm single, 17.8 cm double)."""
+def figure(width_cm: float = PAGE_WIDTH_CM, height_cm: float = 8.0, **kwargs):
+    """A figure at its print size: ``width_cm`` one column (8.6 cm) or two (17.8 cm), at most
+    23 cm tall. The page is the figure (``save`` does not crop), so what is drawn here is what
+    prints."""
+    if width_cm not in (COLUMN_WIDTH_CM, PAGE_WIDTH_CM):
+        raise ValueError(f"width_cm must be {COLUMN_WIDTH_CM} (one column) or {PAGE_WIDTH_CM} (two), got {width_cm}")
+    if not 0 < height_cm <= MAX_HEIGHT_CM:
+        raise ValueError(f"height_cm must be in (0, {MAX_HEIGHT_CM}], got {height_cm}")
     plt.rcParams.update(STYLE)  # type: ignore[arg-type]  # matplotlib types its keys as a Literal of every name
     return plt.figure(figsize=(width_cm / 2.54, height_cm / 2.54), **kwargs)
 
 
+# PNG text chunk holding the figure check's findings (``check_figure``; "[]": none), so that a
+# built figure can be checked without redrawing it (tests/test_figures.py).
+CHECK_KEY = "figure-check"
+
+
 def save(fig, outputs, provenance: dict | None = None) -> None:
-    """Save ``fig`` to every path in ``outputs`` (format from the suffix), atomically, stamped
-    with its provenance (by default ``provenance.describe()``: package, commit, kernel build): a
-    PNG text chunk, or a PDF's Subject field."""
+    """Save ``fig`` to every path in ``outputs`` (format from the suffix), atomically, at its
+    drawn size (no cropping: the page is the print size), stamped with its provenance (by
+    default ``provenance.describe()``: package, commit, kernel build): a PNG text chunk, or a
+    PDF's Subject field. The findings of ``check_figure`` are warned about and stored in the
+    PNG's ``CHECK_KEY`` chunk."""
+    problems = check_figure(fig)
+    for problem in problems:
+        warnings.warn(f"figure check: {problem}", stacklevel=2)
     record = json.dumps(provenance if provenance is not None else describe(), sort_keys=True)
     for out in outputs:
         fmt = str(out).rsplit(".", 1)[-1]
-        metadata = {"png": {PROVENANCE_KEY: record}, "pdf": {"Subject": f"{PROVENANCE_KEY}: {record}"}}.get(fmt)
+        metadata = {"png": {PROVENANCE_KEY: record, CHECK_KEY: json.dumps(problems)},
+                    "pdf": {"Subject": f"{PROVENANCE_KEY}: {record}"}}.get(fmt)
         with atomic_path(out) as tmp:
-            fig.savefig(tmp, format=fmt, bbox_inches="tight", metadata=metadata)
+            fig.savefig(tmp, format=fmt, metadata=metadata)
     plt.close(fig)
 
 
-def panel_label(ax, label: str) -> None:
-    ax.text(-0.02, 1.02, f"({label})", transform=ax.transAxes, ha="right", va="bottom", fontweight="bold")
+def panel_label(ax, label: str, dx_pt: float = -6.0, dy_pt: float = 4.0, at_cm: tuple | None = None):
+    """The panel letter "(a)", bold, in one place: just above and left of the axes' top-left
+    corner (``dx_pt``, ``dy_pt``: an offset in points, for a panel whose tick labels reach there);
+    or, for drawings whose equal aspect shrinks the axes, at ``at_cm`` (x, y in cm on the page,
+    the letter's top-left corner), so that a row of drawings has its letters on one line."""
+    if at_cm is not None:
+        fig = ax.figure
+        width_cm, height_cm = (x * 2.54 for x in fig.get_size_inches())
+        return fig.text(at_cm[0] / width_cm, at_cm[1] / height_cm, f"({label})", ha="left", va="top",
+                        fontweight="bold", fontsize=PANEL_LETTER_PT)
+    return ax.annotate(f"({label})", xy=(0, 1), xycoords="axes fraction", xytext=(dx_pt, dy_pt),
+                       textcoords="offset points", ha="right", va="bottom", fontweight="bold",
+                       fontsize=PANEL_LETTER_PT)
 
 
 def draw_hexagons(ax, corners, values=None, cmap="viridis", norm=None, edgecolor="0.25", linewidth=0.3, **kwargs):
@@ -77,17 +164,18 @@ def draw_hexagons(ax, corners, values=None, cmap="viridis", norm=None, edgecolor
 
 
 def draw_particle_springs(ax, corners, linewidth: float = 1.2, markersize: float = 14) -> None:
-    """One particle with its springs (Fig. 2a): yellow and red triangles, blue connecting sides.
-    ``corners``: (6, 2), slots counter-clockwise from 30 degrees, odd slots yellow."""
-    c = np.asarray(corners)
-    sides = [(c[s], c[(s + 1) % 6]) for s in range(6)]
-    yellow = [(c[s], c[(s + 2) % 6]) for s in (1, 3, 5)]
-    red = [(c[s], c[(s + 2) % 6]) for s in (0, 2, 4)]
+    """Particles with their three spring networks (Fig. 2): yellow and red triangles, blue
+    connecting sides, yellow and red corners. ``corners``: (6, 2) for one particle or (n, 6, 2),
+    slots counter-clockwise from 30 degrees, odd slots yellow."""
+    c = np.asarray(corners, float).reshape(-1, 6, 2)
+    sides = [(p[s], p[(s + 1) % 6]) for p in c for s in range(6)]
+    yellow = [(p[s], p[(s + 2) % 6]) for p in c for s in (1, 3, 5)]
+    red = [(p[s], p[(s + 2) % 6]) for p in c for s in (0, 2, 4)]
     ax.add_collection(LineCollection(sides, colors=BLUE_SPRING, linewidths=linewidth, zorder=1))
     ax.add_collection(LineCollection(yellow, colors=YELLOW, linewidths=linewidth, zorder=2))
     ax.add_collection(LineCollection(red, colors=RED_CORNER, linewidths=linewidth, zorder=2))
-    ax.scatter(*c[1::2].T, s=markersize, color=YELLOW, edgecolor="k", linewidth=0.4, zorder=3)
-    ax.scatter(*c[0::2].T, s=markersize, color=RED_CORNER, edgecolor="k", linewidth=0.4, zorder=3)
+    ax.scatter(*c[:, 1::2].reshape(-1, 2).T, s=markersize, color=YELLOW, edgecolor="k", linewidth=0.3, zorder=3)
+    ax.scatter(*c[:, 0::2].reshape(-1, 2).T, s=markersize, color=RED_CORNER, edgecolor="k", linewidth=0.3, zorder=3)
     ax.set_aspect("equal")
     ax.autoscale_view()
 
@@ -137,17 +225,42 @@ def draw_distance_definitions(ax, corners, pairs, colors=None, fontsize: float =
     ax.set_aspect("equal")
 
 
-def shaded_colormap(color):
-    """White-to-``color`` colormap, for sizes inside a region of a phase diagram."""
-    from matplotlib.colors import LinearSegmentedColormap
+def shaded_colormap(color, tint: float = 0.3):
+    """A ramp from a light tint of ``color`` (``tint`` of the colour over white, so the smallest
+    size still reads as its phase and not as the background) to ``color``, for sizes inside a
+    region of a phase diagram."""
+    from matplotlib.colors import LinearSegmentedColormap, to_rgb
 
-    return LinearSegmentedColormap.from_list("shade", ["#ffffff", color])
+    light = tuple(1 - tint * (1 - c) for c in to_rgb(color))
+    return LinearSegmentedColormap.from_list("shade", [light, color])
+
+
+# Monte Carlo snapshots: the largest cluster first, then the others, in colours that no phase
+# uses (no red, teal, purple or black), isolated particles light grey (montecarlo.draw_snapshot).
+CLUSTER_COLORS = ["#e08214", "#b8a000", "#8c6d31", "#7f9f3a", "#fdb863", "#66a61e", "#d9b365", "#bf812d"]
+
+
+def cluster_colormap():
+    """``CLUSTER_COLORS`` as a colormap, for ``montecarlo.draw_snapshot(cmap=...)``."""
+    from matplotlib.colors import ListedColormap
+
+    return ListedColormap(CLUSTER_COLORS, name="clusters")
+
+
+def draw_snapshot(sites, box, ax, **kwargs):
+    """A Monte Carlo snapshot in the figures' colours and without the box's outline (its edges
+    cut through aggregates drawn across the periodic boundary)."""
+    from .montecarlo import draw_snapshot as _draw
+
+    kwargs.setdefault("outline", False)
+    kwargs.setdefault("cmap", cluster_colormap())
+    return _draw(sites, box, ax=ax, **kwargs)
 
 
 # The two phases each continuum line of ``continuum.critical_line_tensions`` separates.
 CONTINUUM_LINE_PHASES = {"fiber_bulk": {"fiber", "bulk"}, "disk_bulk": {"disk", "bulk"},
                          "disk_fiber": {"disk", "fiber"}, "disk_fiber_upper": {"disk", "fiber"}}
-SIZE_LABELS = {"fiber": r"$W^*/\ell$", "disk": r"$R^*/\ell$"}
+SIZE_LABELS = {"fiber": LABELS["W"], "disk": LABELS["R"]}
 
 
 def continuum_boundaries(lines: dict, flank: float = 1e-6) -> dict:
@@ -197,35 +310,102 @@ def draw_continuum_boundaries(ax, lines: dict, dashed: bool = False) -> dict:
     return kept
 
 
-def size_colorbars(fig, mappables: dict, left: float, bottom: float, height: float,
-                   width: float = 0.022, step: float = 0.11, labelsize: float = 8,
-                   label_on_top: bool = False) -> list:
-    """Colour bars of the fibre width and disk radius, side by side from ``left`` (figure
-    fraction), ``step`` apart: far enough that the first bar's label (on its right, or above it
-    with ``label_on_top``, which needs less room) clears the second bar's ticks."""
+def size_norm():
+    """One scale for W*/ell and R*/ell in every phase diagram: R*/ell stays below 8 (Fig. 4b);
+    W*/ell diverges at the fibre-bulk boundary, so the bars extend beyond 10."""
+    from matplotlib.colors import LogNorm
+
+    return LogNorm(0.3, 10.0)
+
+
+SIZE_TICKS = (0.3, 1, 3, 10)
+
+
+def size_colorbars(fig, mappables: dict, rect_cm: tuple, gap_cm: float = 1.25, width_cm: float = 0.25) -> list:
+    """Colour bars of the fibre width W*/ell and the disk radius R*/ell, side by side from
+    ``rect_cm`` = (left, bottom, height) in cm on the page, ``gap_cm`` apart (room for the
+    first bar's tick labels), each labelled once, above it."""
+    page_w, page_h = (x * 2.54 for x in fig.get_size_inches())
+    left, bottom, height = rect_cm
     bars = []
     for i, name in enumerate(("fiber", "disk")):
-        cax = fig.add_axes([left + i * step, bottom, width, height])
-        bar = fig.colorbar(mappables[name], cax=cax)
-        if label_on_top:
-            cax.set_title(SIZE_LABELS[name], fontsize=labelsize, pad=3)
-        else:
-            bar.set_label(SIZE_LABELS[name], fontsize=labelsize, labelpad=2)
-        cax.tick_params(labelsize=labelsize - 1)
+        cax = fig.add_axes([(left + i * gap_cm) / page_w, bottom / page_h, width_cm / page_w, height / page_h])
+        bar = fig.colorbar(mappables[name], cax=cax, extend="both")
+        bar.set_ticks(SIZE_TICKS, labels=[f"{t:g}" for t in SIZE_TICKS])
+        bar.minorticks_off()
+        cax.set_title(SIZE_LABELS[name], pad=4)
         bars.append(bar)
     return bars
 
 
-def draw_ansatz_diagram(fig, ax, diagram: dict, continuum: dict):
-    """Numerical phase diagram (Figs. 3b, S1): cells coloured by the winning aggregate (black bulk
-    with holes, red disk, blue fibre, purple bulk), disks and fibres shaded by the winner's
-    W*/ell and R*/ell, with the continuum boundaries of Fig. 3a as dashed lines (only where they
-    are boundaries: ``continuum_boundaries``). Returns the fibre and disk meshes, for
-    ``size_colorbars``."""
-    from matplotlib.colors import LogNorm
+SIZE_CONTOURS = (0.5, 1, 2, 4)
+
+
+def draw_continuum_diagram(ax, d: dict) -> dict:
+    """The continuum phase diagram (Fig. 3a; ``d``: the continuum phase-diagram file): disk,
+    fibre and bulk regions shaded by W*/ell and R*/ell (``size_norm``), contours at
+    ``SIZE_CONTOURS`` (labelled where they are apart), the boundaries (``draw_continuum_boundaries``) and the triple point.
+    Returns the fibre and disk images, for ``size_colorbars``."""
+    nu, G, phase = d["nu"], d["Gamma"], d["phase"]
+    extent = (G[0], G[-1], nu[0], nu[-1])
+    norm = size_norm()
+    images = {}
+    for name, size in (("fiber", d["width"]), ("disk", d["radius"])):
+        field = np.where(phase == name, np.clip(size, norm.vmin, None), np.nan)
+        images[name] = ax.imshow(field, origin="lower", extent=extent, aspect="auto", norm=norm,
+                                 cmap=shaded_colormap(PHASE_COLORS[name]), interpolation="nearest")
+    bulk = np.where(phase == "bulk", 1.0, np.nan)
+    ax.imshow(bulk, origin="lower", extent=extent, aspect="auto", cmap=shaded_colormap(PHASE_COLORS["bulk"]),
+              vmin=0, vmax=1, interpolation="nearest")
+    for name, size, color in (("fiber", d["width"], "#003f4a"), ("disk", d["radius"], "#6b0016")):
+        field = np.where(phase == name, size, np.nan)
+        contours = ax.contour(G, nu, field, levels=SIZE_CONTOURS, colors=color, linewidths=0.5)
+        ax.clabel(contours, fontsize=MIN_ANNOTATION_PT, fmt="%g", inline_spacing=2)
+    boundaries = draw_continuum_boundaries(ax, d)
+    triple = continuum_triple_point(boundaries, d["line_nu"])
+    ax.plot(*triple, "o", ms=4, mfc="w", mec="k", zorder=5)
+    ax.set_xlim(G[0], G[-1])
+    ax.set_ylim(0, 1)
+    ax.set_xlabel(LABELS["Gamma"])
+    ax.set_ylabel(LABELS["nu"])
+    ax.spines[["top", "right"]].set_visible(True)
+    return images
+
+
+def phase_legend(ax, phases, dashed_continuum: bool = False, **kwargs):
+    """The legend of the phase colours (and of the dashed continuum lines), above ``ax``."""
     from matplotlib.artist import Artist
     from matplotlib.patches import Patch
 
+    handles: list[Artist] = [Patch(color=PHASE_COLORS[p], label=PHASE_LABELS[p]) for p in phases]
+    if dashed_continuum:
+        handles.append(plt.Line2D([], [], color="k", ls="--", lw=0.8, label=r"continuum ($\ell\to\infty$)"))
+    kwargs = dict(dict(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, frameon=False), **kwargs)
+    return ax.legend(handles=handles, **kwargs)
+
+
+def shade_phases(ax, x_edges, y_edges, phase, length_over_ell, **kwargs) -> dict:
+    """Cells of a diagram coloured by their phase (``phase``: names, 2D), fibres and disks shaded
+    by W*/ell and R*/ell (``length_over_ell``, same shape) on ``size_norm``'s scale, the other
+    phases flat. Returns the fibre and disk meshes, for ``size_colorbars``."""
+    norm = size_norm()
+    meshes = {}
+    for name in ("fiber", "disk"):
+        field = np.ma.masked_where(phase != name, np.clip(length_over_ell, norm.vmin, None))
+        meshes[name] = ax.pcolormesh(x_edges, y_edges, field, cmap=shaded_colormap(PHASE_COLORS[name]), norm=norm,
+                                     **kwargs)
+    for name in ("bulk", "bulk_with_holes", "gas"):
+        field = np.ma.masked_where(phase != name, np.ones(phase.shape))
+        ax.pcolormesh(x_edges, y_edges, field, cmap=shaded_colormap(PHASE_COLORS[name]), vmin=0, vmax=1, **kwargs)
+    return meshes
+
+
+def draw_ansatz_diagram(ax, diagram: dict, continuum: dict):
+    """Numerical phase diagram (Figs. 3b, S1): cells coloured by the winning aggregate (black bulk
+    with holes, red disk, blue fibre, purple bulk), disks and fibres shaded by the winner's
+    W*/ell and R*/ell (``size_norm``), with the continuum boundaries of Fig. 3a as dashed lines
+    (only where they are boundaries: ``continuum_boundaries``). Returns the fibre and disk
+    meshes, for ``size_colorbars``, and the phases drawn, for ``phase_legend``."""
     nu, G, phase, length = diagram["nu"], diagram["Gamma"], diagram["phase"], diagram["length"]
     ell = float(diagram["ell"])
 
@@ -234,21 +414,86 @@ def draw_ansatz_diagram(fig, ax, diagram: dict, continuum: dict):
         return np.concatenate([[x[0] - (mid[0] - x[0])], mid, [x[-1] + (x[-1] - mid[-1])]])
 
     nu_edges, G_edges = np.clip(edges(nu), 0, 1), np.clip(edges(G), 0, None)
-    norm = LogNorm(0.3, 30)
-    meshes = {}
-    for name in ("fiber", "disk"):
-        field = np.ma.masked_where(phase != name, np.clip(length / ell, norm.vmin, norm.vmax))
-        meshes[name] = ax.pcolormesh(G_edges, nu_edges, field, cmap=shaded_colormap(PHASE_COLORS[name]), norm=norm)
-    for name in ("bulk", "bulk_with_holes", "gas"):
-        field = np.ma.masked_where(phase != name, np.ones(phase.shape))
-        ax.pcolormesh(G_edges, nu_edges, field, cmap=shaded_colormap(PHASE_COLORS[name]), vmin=0, vmax=1.05)
+    meshes = shade_phases(ax, G_edges, nu_edges, phase, length / ell)
     draw_continuum_boundaries(ax, continuum, dashed=True)
     ax.set_xlim(G_edges[0], G_edges[-1])
     ax.set_ylim(0, 1)
-    ax.set_xlabel(r"line tension $\Gamma$")
-    ax.set_ylabel(r"Poisson ratio $\nu$")
-    shown = ["bulk_with_holes", "disk", "fiber", "bulk"] + (["gas"] if np.any(phase == "gas") else [])
-    handles: list[Artist] = [Patch(color=PHASE_COLORS[p], label=PHASE_LABELS[p]) for p in shown]
-    handles.append(plt.Line2D([], [], color="k", ls="--", lw=0.8, label=r"continuum ($\ell\to\infty$)"))
-    ax.legend(handles=handles, loc="lower center", bbox_to_anchor=(0.5, 1.01), ncol=3, fontsize=7, frameon=False)
-    return meshes
+    ax.set_xlabel(LABELS["Gamma"])
+    ax.set_ylabel(LABELS["nu"])
+    shown = [p for p in ("bulk_with_holes", "disk", "fiber", "bulk", "gas") if np.any(phase == p)]
+    return meshes, shown
+
+
+
+def _drawn_texts(fig):
+    """Every text the figure prints, with its kind: "text" (labels, ticks, titles, legends:
+    at least ``MIN_TEXT_PT``) or "annotation" (free text placed in or beside an axes: at least
+    ``MIN_ANNOTATION_PT``). Tick labels only of the ticks drawn (inside the view limits)."""
+    from matplotlib.text import Text
+
+    texts = []
+    for ax in fig.axes:
+        if not ax.get_visible():
+            continue
+        for axis in (ax.xaxis, ax.yaxis):
+            if not (ax.axison and axis.get_visible()):  # ax.axis("off") hides the axes' axis artists
+                continue
+            for tick in axis._update_ticks():  # the ticks matplotlib draws (private, stable since 3.1)
+                texts += [(label, "text") for label in (tick.label1, tick.label2) if label.get_visible()]
+            texts.append((axis.label, "text"))
+            texts.append((axis.get_offset_text(), "text"))
+        texts += [(t, "text") for t in (ax.title, ax._left_title, ax._right_title)]
+        legend = ax.get_legend()
+        if legend is not None and legend.get_visible():
+            texts += [(t, "text") for t in legend.get_texts()]
+            texts.append((legend.get_title(), "text"))
+        texts += [(t, "annotation") for t in ax.texts]
+    for legend in fig.legends:
+        texts += [(t, "text") for t in legend.get_texts()]
+    texts += [(t, "annotation") for t in fig.texts]
+    shown = []
+    for t, kind in texts:
+        if not (isinstance(t, Text) and t.get_visible() and t.get_text().strip()):
+            continue
+        if t.get_fontweight() == "bold" and t.get_text().startswith("("):
+            kind = "text"  # panel letters
+        shown.append((t, kind))
+    return shown
+
+
+def check_figure(fig, overlap_px: float = 0.0) -> list[str]:
+    """What a machine can check of a figure drawn at print size; returns the problems found
+    (empty: none). The page is at most 17.8 cm wide (one column 8.6 cm, two 17.8 cm) and 23 cm
+    tall; every text is at least 7 pt (free annotations 6 pt); no two texts overlap (by more
+    than ``overlap_px`` pixels each way) and none leaves the page; no visible axes is empty."""
+    problems = []
+    width_cm, height_cm = (x * 2.54 for x in fig.get_size_inches())
+    if width_cm > PAGE_WIDTH_CM + 0.01:
+        problems.append(f"page {width_cm:.1f} cm wide, wider than {PAGE_WIDTH_CM} cm")
+    if height_cm > MAX_HEIGHT_CM + 0.01:
+        problems.append(f"page {height_cm:.1f} cm tall, taller than {MAX_HEIGHT_CM} cm")
+    renderer = fig.canvas.get_renderer()
+    fig.draw(renderer)  # the layout as saved (constrained layout, label placement)
+    page = fig.bbox
+    boxes = []
+    for t, kind in _drawn_texts(fig):
+        least = MIN_TEXT_PT if kind == "text" else MIN_ANNOTATION_PT
+        if t.get_fontsize() < least - 1e-6:
+            problems.append(f"{kind} {t.get_text()!r} at {t.get_fontsize():g} pt, under {least:g} pt")
+        box = t.get_window_extent(renderer)
+        if box.width <= 0 or box.height <= 0:
+            continue
+        if (box.x0 < page.x0 - overlap_px or box.y0 < page.y0 - overlap_px
+                or box.x1 > page.x1 + overlap_px or box.y1 > page.y1 + overlap_px):
+            problems.append(f"text {t.get_text()!r} leaves the page")
+        boxes.append((t, box))
+    for i, (a, box_a) in enumerate(boxes):
+        for b, box_b in boxes[i + 1:]:
+            dx = min(box_a.x1, box_b.x1) - max(box_a.x0, box_b.x0)
+            dy = min(box_a.y1, box_b.y1) - max(box_a.y0, box_b.y0)
+            if dx > overlap_px and dy > overlap_px:
+                problems.append(f"texts {a.get_text()!r} and {b.get_text()!r} overlap")
+    for ax in fig.axes:
+        if ax.get_visible() and not (ax.has_data() or ax.images or ax.texts or ax.get_legend()):
+            problems.append(f"an empty axes at {tuple(round(v, 2) for v in ax.get_position().bounds)}")
+    return problems

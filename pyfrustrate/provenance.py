@@ -24,8 +24,20 @@ UNKNOWN = "unknown"
 
 
 def git_state(directory=".") -> tuple[str, bool | None]:
-    """(commit, dirty) of the git checkout holding ``directory``; ("unknown", None) outside one
-    (a tarball, an installed copy) or without git."""
+    """The commit of the git checkout holding ``directory``, and whether it has uncommitted changes.
+
+    Parameters
+    ----------
+    directory : str or Path, optional
+        Any directory inside the checkout (default: the working directory).
+
+    Returns
+    -------
+    commit : str
+        ``"unknown"`` outside a checkout (a tarball, an installed copy) or without git.
+    dirty : bool or None
+        None when unknown.
+    """
     try:
         commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=directory, capture_output=True, text=True,
                                 timeout=30, check=True).stdout.strip()
@@ -37,6 +49,12 @@ def git_state(directory=".") -> tuple[str, bool | None]:
 
 
 def package_version() -> str:
+    """The installed package's version, or ``"unknown"`` for a source tree never installed.
+
+    Returns
+    -------
+    str
+    """
     try:
         return metadata.version("pyfrustrate")
     except metadata.PackageNotFoundError:  # imported from a source tree that was never installed
@@ -44,7 +62,39 @@ def package_version() -> str:
 
 
 def describe(parameters: Mapping | None = None, *, seed=None, rule: str | None = None, directory=".") -> dict:
-    """The provenance record of a computation with these ``parameters`` and ``seed``."""
+    """The provenance record of a computation.
+
+    Parameters
+    ----------
+    parameters : mapping, optional
+        The computation's parameters (converted to JSON types).
+    seed : int, optional
+        Its seed.
+    rule : str, optional
+        The workflow rule that ran it.
+    directory : str or Path, optional
+        Any directory inside the checkout (default: the working directory).
+        Where the work runs (its git state is recorded).
+
+    Returns
+    -------
+    dict
+        ``package``, ``version``, ``git_commit``, ``git_dirty``, ``kernel_build_hash``,
+        ``python``, ``numpy``, ``rule``, ``parameters``, ``seed``: nothing that depends on the
+        time or the machine.
+
+    Raises
+    ------
+    TypeError
+        If a parameter cannot be recorded as JSON.
+
+    Examples
+    --------
+    >>> from pyfrustrate import provenance
+    >>> record = provenance.describe({"ell": 5.0}, seed=1, directory="/")
+    >>> record["parameters"], record["seed"], record["git_commit"]
+    ({'ell': 5.0}, 1, 'unknown')
+    """
     commit, dirty = git_state(directory)
     record = {
         "package": "pyfrustrate",
@@ -63,8 +113,18 @@ def describe(parameters: Mapping | None = None, *, seed=None, rule: str | None =
 
 
 def for_job(job) -> dict:
-    """The provenance of a Snakemake script job (the ``snakemake`` object of a ``script:``): its
-    rule, its named params and wildcards, and its seed when it has one."""
+    """The provenance of a Snakemake script job.
+
+    Parameters
+    ----------
+    job : snakemake.script.Snakemake
+        The ``snakemake`` object of a ``script:``.
+
+    Returns
+    -------
+    dict
+        ``describe`` of its rule, its named params and wildcards, and its seed when it has one.
+    """
     parameters = dict(job.params.items())
     wildcards = dict(job.wildcards.items())
     if wildcards:

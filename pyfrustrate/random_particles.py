@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from . import _kernel
+from . import _checks, _kernel
 from .particles import _corners
 from .topology import SQRT3
 
@@ -53,20 +53,51 @@ def _rotation_permutation() -> np.ndarray:
 
 
 MATRIX_CHUNK = 10_000  # matrices drawn per random stream; matrix i comes from stream i // MATRIX_CHUNK
+MATRIX_BYTES = 9 * 9 * 8  # one elasticity matrix in float64
 
 
 def elasticity_matrices(n: int, seed: int, start: int = 0) -> np.ndarray:
-    """Random elasticity matrices number ``start .. start + n - 1`` of the sample ``seed``,
-    shape (n, 9, 9), by the supplement's procedure: ``M0`` with i.i.d. N(0, 1) entries,
-    ``M1 = (M0 + W M0 W^-1 + W^2 M0 W^-2) / 3`` with ``W`` the block-diagonal 3-cycle,
-    ``M = M1 M1^T``.
+    """Random elasticity matrices number ``start .. start + n - 1`` of the sample ``seed``.
 
-    Matrix ``i`` depends only on ``(seed, i)`` (stream ``i // MATRIX_CHUNK`` of the seed), so a
-    sample drawn in pieces, in parallel, or regenerated later for one index, is the same."""
+    By the supplement's procedure: ``M0`` with i.i.d. N(0, 1) entries,
+    ``M1 = (M0 + W M0 W^-1 + W^2 M0 W^-2) / 3`` with ``W`` the block-diagonal 3-cycle,
+    ``M = M1 M1^T``. Matrix ``i`` depends only on ``(seed, i)`` (stream ``i // MATRIX_CHUNK`` of
+    the seed), so a sample drawn in pieces, in parallel, or regenerated later for one index, is
+    the same.
+
+    Parameters
+    ----------
+    n : int
+        Number of matrices, ``>= 0``.
+    seed : int
+        The sample's seed.
+    start : int, optional
+        Index of the first matrix.
+
+    Returns
+    -------
+    ndarray, shape (n, 9, 9)
+        In units of ``k`` (energy per squared lattice spacing).
+
+    Raises
+    ------
+    ValueError
+        For a bad ``n`` or ``start``, or ``n`` too large for memory.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from pyfrustrate import random_particles as rp
+    >>> M = rp.elasticity_matrices(3, seed=1)
+    >>> M.shape, bool(np.allclose(M[2], rp.elasticity_matrices(1, seed=1, start=2)[0]))
+    ((3, 9, 9), True)
+    """
     for name, value in (("n", n), ("start", start)):
         if int(value) != value or value < 0:
             raise ValueError(f"{name} must be a non-negative integer, got {value!r}")
     n, start = int(n), int(start)
+    # The result (n, 9, 9) and one chunk's draws and their symmetrised copies.
+    _checks.affordable(f"elasticity_matrices(n={n})", (n + 4 * MATRIX_CHUNK) * MATRIX_BYTES)
     p = _rotation_permutation()
     p2 = p[p]
     out = np.empty((n, 9, 9))
@@ -83,12 +114,32 @@ def elasticity_matrices(n: int, seed: int, start: int = 0) -> np.ndarray:
 
 
 def rotate_distances(d) -> np.ndarray:
-    """The distances of the same particle turned by 120 degrees (the permutation Omega)."""
+    """The distances of the same particle turned by 120 degrees (the permutation Omega).
+
+    Parameters
+    ----------
+    d : array_like, shape (..., 9)
+        Distances in the order of ``DISTANCE_PAIRS``.
+
+    Returns
+    -------
+    ndarray, shape (..., 9)
+    """
     return np.asarray(d)[..., _rotation_permutation()]
 
 
 def distance_jacobian(corners=REST_CORNERS) -> np.ndarray:
-    """d(distances)/d(corner coordinates), shape (9, 12), at the given corners (rest by default)."""
+    """Derivative of the nine distances with respect to the corner coordinates.
+
+    Parameters
+    ----------
+    corners : array_like, shape (6, 2) or (12,), optional
+        Corner positions in lattice spacings (default: the rest shape ``REST_CORNERS``).
+
+    Returns
+    -------
+    ndarray, shape (9, 12)
+    """
     c = np.asarray(corners, float).reshape(6, 2)
     J = np.zeros((9, 12))
     for i, (a, b) in enumerate(DISTANCE_PAIRS):
@@ -99,10 +150,26 @@ def distance_jacobian(corners=REST_CORNERS) -> np.ndarray:
 
 
 def checked_matrix(M) -> np.ndarray:
-    """``M`` as a (9, 9) float array if it is a valid elasticity matrix (finite, symmetric,
-    positive semi-definite, not zero: the kernel's own checks, ``kernel/random_hexagon.hpp``),
-    else ValueError naming ``M``. A zero or non-finite ``M`` would otherwise give a
-    boundary-layer length of 0 or NaN without complaint."""
+    """``M`` as a (9, 9) float array if it is a valid elasticity matrix.
+
+    Finite, symmetric, positive semi-definite, not zero: the kernel's own checks
+    (``kernel/random_hexagon.hpp``). A zero or non-finite ``M`` would otherwise give a
+    boundary-layer length of 0 or NaN without complaint.
+
+    Parameters
+    ----------
+    M : array_like, shape (9, 9)
+        The candidate elasticity matrix.
+
+    Returns
+    -------
+    ndarray, shape (9, 9)
+
+    Raises
+    ------
+    ValueError
+        Naming ``M``, if it is not a valid elasticity matrix.
+    """
     M = np.asarray(M, dtype=float)
     if M.shape != (9, 9):
         raise ValueError(f"M must have shape (9, 9), got {M.shape}")
@@ -120,16 +187,30 @@ def _finite_stack(name: str, Ms) -> np.ndarray:
 
 
 def pseudo_moduli(M) -> dict:
-    """Single-particle proxies of the continuum moduli (supplement, "Predicting the boundary
-    layer thickness"), for one matrix (9, 9) or a stack (..., 9, 9).
+    """Single-particle proxies of the continuum moduli (supplement, "Predicting the boundary layer
+    thickness").
 
-    ``kappa_c``, ``K``: pseudo-moduli ``dd^T M dd / A_hex`` of a relative shift of the two
-    triangles and of a yellow-shrinks/red-grows bulk change; ``K_up, mu_up, K_down, mu_down``:
-    bulk and shear moduli of each triangle alone (the rest of ``M`` decoupled, which is the
-    affine response of a lattice of such triangles); ``nu_up, nu_down`` = ``(K - mu)/(K + mu)``
-    and their mean ``nu``; ``ell_pred = sqrt(K / ((1 + nu) kappa_c))`` (Eq. S23);
-    ``ell_eigen = 1 / sqrt(lowest eigenvalue of M)`` (the predictor that fails, Fig. S5).
-    For the simple particle they coincide with the continuum mapping up to O(kc/k) (tested).
+    Parameters
+    ----------
+    M : array_like, shape (9, 9) or (..., 9, 9)
+        Elasticity matrices.
+
+    Returns
+    -------
+    dict of ndarray, each of shape (...)
+        ``kappa_c``, ``K``: pseudo-moduli ``dd^T M dd / A_hex`` of a relative shift of the two
+        triangles and of a yellow-shrinks/red-grows bulk change; ``K_up, mu_up, K_down, mu_down``:
+        bulk and shear moduli of each triangle alone (the rest of ``M`` decoupled, which is the
+        affine response of a lattice of such triangles); ``nu_up, nu_down`` =
+        ``(K - mu)/(K + mu)`` and their mean ``nu``; ``ell_pred = sqrt(K / ((1 + nu) kappa_c))``
+        (Eq. S23, lattice spacings); ``ell_eigen = 1 / sqrt(lowest eigenvalue of M)`` (the
+        predictor that fails, Fig. S5). For the simple particle they coincide with the continuum
+        mapping up to O(kc/k) (tested).
+
+    Raises
+    ------
+    ValueError
+        For a wrong shape or non-finite entries.
     """
     M = _finite_stack("M", M)
     out = {name: np.einsum("i,...ij,j->...", v, M, v) / HEXAGON_AREA for name, v in PSEUDO_MODULUS_VECTORS.items()}
@@ -167,8 +248,18 @@ ROW_SPACING = SQRT3 / 2  # rows parallel to an edge along a1
 
 
 def rest_hessian(M) -> np.ndarray:
-    """Hessian of one particle's energy at its rest shape without mismatch, ``J^T M J``
-    (12 x 12; at rest the distances' own curvature carries no force)."""
+    """Hessian of one particle's energy at its rest shape without mismatch, ``J^T M J`` (at rest the
+    distances' own curvature carries no force).
+
+    Parameters
+    ----------
+    M : array_like, shape (9, 9)
+        Elasticity matrix.
+
+    Returns
+    -------
+    ndarray, shape (12, 12)
+    """
     J = distance_jacobian()
     return J.T @ np.asarray(M, float) @ J
 
@@ -187,8 +278,19 @@ def _transfer_blocks(hessian):
 
 
 def transfer_roots(hessian) -> np.ndarray:
-    """All roots z of det(sum_m A_m z^m) = 0 (companion linearisation of the quartic matrix
-    polynomial); finite roots, sorted by decreasing modulus."""
+    """All roots ``z`` of ``det(sum_m A_m z^m) = 0``, the layer-to-layer transfer problem
+    (companion linearisation of the quartic matrix polynomial).
+
+    Parameters
+    ----------
+    hessian : array_like, shape (12, 12)
+        A particle's rest Hessian (``rest_hessian``).
+
+    Returns
+    -------
+    ndarray of complex
+        The finite roots, sorted by decreasing modulus.
+    """
     A = _transfer_blocks(hessian)
     n, deg = 4, 4
     # z^2 sum_m A_m z^m = sum_k C_k z^k with C_k = A_{k-2}, k = 0..4: P(z) = C_4 z^4 + ... + C_0.
@@ -206,12 +308,41 @@ def transfer_roots(hessian) -> np.ndarray:
 
 def boundary_layer_length(M=None, *, hessian=None) -> float:
     """Boundary-layer length of a half-plane aggregate with its edge along a lattice vector, in
-    linear response: ``-row_spacing / ln|z|`` for the slowest-decaying bulk mode ``z`` (|z| < 1)
-    of the layer-to-layer transfer problem. The four roots at z = 1 (translations and uniform
-    strains) are not decay modes and are dropped.
+    linear response.
 
-    Give ``M`` (a random particle) or ``hessian`` (the 12 x 12 rest Hessian of any hexagonal
-    particle, e.g. ``Hexagon.evaluate`` at the regular hexagon with ``eps`` tiny)."""
+    ``-row_spacing / ln|z|`` for the slowest-decaying bulk mode ``z`` (``|z| < 1``) of the
+    layer-to-layer transfer problem. The four roots at z = 1 (translations and uniform strains)
+    are not decay modes and are dropped.
+
+    Parameters
+    ----------
+    M : array_like, shape (9, 9), optional
+        A random particle's elasticity matrix.
+    hessian : array_like, shape (12, 12), optional
+        Instead of ``M``: the rest Hessian of any hexagonal particle (e.g. ``Hexagon.evaluate``
+        at the regular hexagon with ``eps`` tiny). Give exactly one.
+
+    Returns
+    -------
+    float
+        ``ell``, in lattice spacings.
+
+    Raises
+    ------
+    ValueError
+        Unless exactly one of ``M``, ``hessian`` is given and valid.
+    RuntimeError
+        If no mode decays (a floppy collective mode).
+
+    Examples
+    --------
+    >>> from pyfrustrate import Hexagon, random_particles as rp
+    >>> round(rp.boundary_layer_length(rp.elasticity_matrices(1, seed=1)[0]), 4)
+    0.7149
+    >>> simple = rp.RandomHexagon.from_hexagon(Hexagon.from_continuum(ell=2.0, nu=0.5))
+    >>> round(rp.boundary_layer_length(simple.M), 2)  # the continuum's 2, to O(kc/k)
+    2.01
+    """
     if (M is None) == (hessian is None):
         raise ValueError("give exactly one of M or hessian")
     H = rest_hessian(checked_matrix(M)) if M is not None else np.asarray(hessian, float)
@@ -227,15 +358,33 @@ def boundary_layer_length(M=None, *, hessian=None) -> float:
 
 
 def boundary_layer_lengths(Ms, chunk: int = 20000) -> np.ndarray:
-    """``boundary_layer_length`` for a stack of matrices (n, 9, 9), vectorised: the same roots
-    through the scalar polynomial ``P(z) = z^4 det D(z)`` instead of the companion pencil.
+    """``boundary_layer_length`` for a stack of matrices, vectorised.
 
-    ``P`` has degree 8 and is palindromic (``D(1/z) = D(z)^T``), so ``P(z) / z^4`` is a quartic
-    in ``s = z + 1/z``; its double root ``s = 2`` (the four roots at z = 1) is divided out exactly
-    and the remaining quadratic is solved in closed form. Coefficients come from ``P`` on 16
-    roots of unity (FFT). About 10 times faster than the companion eigenproblem
+    The same roots through the scalar polynomial ``P(z) = z^4 det D(z)`` instead of the companion
+    pencil. ``P`` has degree 8 and is palindromic (``D(1/z) = D(z)^T``), so ``P(z) / z^4`` is a
+    quartic in ``s = z + 1/z``; its double root ``s = 2`` (the four roots at z = 1) is divided
+    out exactly and the remaining quadratic is solved in closed form. Coefficients come from ``P``
+    on 16 roots of unity (FFT). Faster than the companion eigenproblem
     (``benchmarks/bench_random.py``), same values to ~1e-11 (tested); the relative error grows
-    like ell^2 (5e-5 at ell = 200)."""
+    like ell^2 (5e-5 at ell = 200).
+
+    Parameters
+    ----------
+    Ms : array_like, shape (n, 9, 9)
+        Elasticity matrices.
+    chunk : int, optional
+        Matrices per vectorised batch (bounds the temporary memory).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Lattice spacings.
+
+    Raises
+    ------
+    ValueError
+        For a wrong shape or non-finite entries.
+    """
     Ms = _finite_stack("Ms", Ms)
     out = np.empty(len(Ms))
     J = distance_jacobian()
@@ -297,17 +446,32 @@ def _transfer_blocks_batched(H):
 class RandomHexagon:
     """Hexagonal particle with random elasticity (main text Eq. 14).
 
+    Works with ``relax``, ``anneal`` and the topologies of ``pyfrustrate.topology`` like
+    ``Hexagon`` (its point group is C3: ``M`` is not mirror-symmetric in general).
+
     Parameters
     ----------
-    M : array (9, 9)
-        Symmetric, positive semi-definite elasticity matrix over the distances ``DISTANCE_PAIRS``.
-    eps : float
+    M : array_like, shape (9, 9)
+        Symmetric, positive semi-definite elasticity matrix over the distances ``DISTANCE_PAIRS``,
+        in units of ``k``.
+    eps : float, optional
         Mismatch, in (0, 1): rest distances ``d0`` are triangle sides ``1 +- eps`` and the
         hexagon side of the ill-fitting hexagon.
 
-    ``RandomHexagon.draw(seed)`` draws ``M`` as in the supplement. Works with ``relax``, ``anneal``
-    and the topologies of ``pyfrustrate.topology`` like ``Hexagon`` (its point group is C3: ``M``
-    is not mirror-symmetric in general).
+    Raises
+    ------
+    ValueError
+        For a wrong shape, an invalid matrix or ``eps`` out of range.
+
+    Examples
+    --------
+    >>> from pyfrustrate import relax, topology
+    >>> from pyfrustrate.random_particles import RandomHexagon
+    >>> p = RandomHexagon.draw(seed=1)  # particle 0 of sample 1
+    >>> p
+    RandomHexagon(eps=0.01, ell=0.715, nu=0.444)
+    >>> relax(p, topology.disk(2)).converged
+    True
     """
 
     tiling = "hexagon"
@@ -325,14 +489,39 @@ class RandomHexagon:
 
     @classmethod
     def draw(cls, seed: int, index: int = 0, eps: float = 0.01) -> "RandomHexagon":
-        """Particle number ``index`` of the random sample ``seed`` (``elasticity_matrices``)."""
+        """Particle number ``index`` of the random sample ``seed`` (``elasticity_matrices``).
+
+        Parameters
+        ----------
+        seed : int
+            The sample.
+        index : int, optional
+            The particle's index in it.
+        eps : float, optional
+            Mismatch.
+
+        Returns
+        -------
+        RandomHexagon
+        """
         return cls(elasticity_matrices(1, seed, start=index)[0], eps)
 
     @classmethod
     def from_hexagon(cls, hexagon) -> "RandomHexagon":
-        """The simple particle's linearised energy written as a quadratic form in the distances:
-        ``M = J^+T H J^+`` with ``H`` its Hessian at rest (eps = 0) and ``J`` the distance
-        Jacobian (exact: both vanish on rigid motions). Same linear response, same eps."""
+        """The simple particle's linearised energy written as a quadratic form in the distances.
+
+        ``M = J^+T H J^+`` with ``H`` its Hessian at rest (eps = 0) and ``J`` the distance Jacobian
+        (exact: both vanish on rigid motions). Same linear response, same eps.
+
+        Parameters
+        ----------
+        hexagon : Hexagon
+            The simple particle (its ``k, kc, k_area, eps``).
+
+        Returns
+        -------
+        RandomHexagon
+        """
         rest = _kernel.HexagonModel(hexagon.k, hexagon.kc, hexagon.k_area, 0.0)
         H = np.asarray(rest.evaluate(REST_CORNERS.ravel())["hessian"])
         Jp = np.linalg.pinv(distance_jacobian())
@@ -352,28 +541,48 @@ class RandomHexagon:
 
     @property
     def boundary_layer_length(self) -> float:
-        """``boundary_layer_length(M)``: exact linear-response decay length of a half-plane."""
+        """``boundary_layer_length(M)``: the exact linear-response decay length of a half-plane, in
+        lattice spacings.
+        """
         return boundary_layer_length(self.M)
 
     @property
     def force_scale(self) -> float:
         """Typical force on a corner, ``eps * |M|`` (largest eigenvalue): the unit of ``relax``'s
-        tolerance."""
+        tolerance.
+        """
         return self.eps * float(np.linalg.eigvalsh(self.M)[-1])
 
     @property
     def bulk_energy_per_particle(self) -> float:
-        """Exact bulk deformation energy per particle: every hexagon is regular with lattice
-        constant ``a`` (three-fold symmetry), so ``d = a dhat`` and the energy is minimised over
-        ``a`` in closed form."""
+        """Exact bulk deformation energy per particle.
+
+        Every hexagon of the bulk is regular with lattice constant ``a`` (three-fold symmetry), so
+        ``d = a dhat`` and the energy is minimised over ``a`` in closed form.
+        """
         d0 = np.asarray(self._kernel_model.rest_distances())
         dhat = np.array([1, 1, 1, 1, 1, 1, 1 / SQRT3, 1 / SQRT3, 1 / SQRT3])
         stiff = dhat @ self.M @ dhat
         return float(0.5 * d0 @ self.M @ d0 - 0.5 * (dhat @ self.M @ d0) ** 2 / stiff)
 
     def evaluate(self, corners) -> dict:
-        """Energy, distances (9,), gradient (12,) and Hessian (12, 12) of one particle from its
-        corners, shape (6, 2) or (12,), slots counter-clockwise from 30 degrees."""
+        """Energy, distances, gradient and Hessian of one particle from its corners.
+
+        Parameters
+        ----------
+        corners : array_like, shape (6, 2) or (12,)
+            Corner positions, lattice spacings, slots counter-clockwise from 30 degrees.
+
+        Returns
+        -------
+        dict
+            ``energy``, ``distances`` (9,), ``gradient`` (12,), ``hessian`` (12, 12).
+
+        Raises
+        ------
+        ValueError
+            For a wrong shape or non-finite corners.
+        """
         return self._kernel_model.evaluate(_corners(corners))
 
 
@@ -382,15 +591,38 @@ class RandomHexagon:
 # --------------------------------------------------------------------------------------------
 
 def edge_energy_profile(particle, width: int) -> tuple[np.ndarray, np.ndarray]:
-    """Excess deformation energy per particle, relative to the interior, against the distance
-    from an edge, on a straight strip of ``width`` rows parallel to a lattice vector (cut 0),
-    in linear response. Returns ``(distance, excess)`` for the rows of one half, both edges
-    added: a free strip of random particles is pulled by a uniform strain O(1/width) and, held
-    straight, by a bending stress odd about its centre; adding the two halves cancels the odd
-    part, and taking the centre as reference removes the uniform one (checked: the fitted
-    length converges in width). ``excess`` is in units of the interior energy per particle."""
+    """Excess deformation energy per particle against the distance from an edge.
+
+    On a straight strip of ``width`` rows parallel to a lattice vector (cut 0), in linear
+    response, relative to the interior. A free strip of random particles is pulled by a uniform
+    strain O(1/width) and, held straight, by a bending stress odd about its centre; adding the two
+    halves cancels the odd part, and taking the centre as reference removes the uniform one
+    (checked: the fitted length converges in width).
+
+    Parameters
+    ----------
+    particle : RandomHexagon or Hexagon
+        The particle model.
+    width : int
+        Rows of the strip, ``>= 8``.
+
+    Returns
+    -------
+    distance : ndarray, shape (width // 2,)
+        From the edge line, lattice spacings.
+    excess : ndarray, shape (width // 2,)
+        Both edges added, in units of the interior energy per particle.
+
+    Raises
+    ------
+    TypeError
+        If ``particle`` is not a particle model.
+    ValueError
+        For a strip narrower than 8 rows.
+    """
     from .relaxation import particle_corners, particle_energies, relax
     from .topology import fiber
+    _checks.particle("particle", particle)
     width = int(width)
     if width < 8:
         raise ValueError(f"width must be at least 8 rows, got {width}")
@@ -405,13 +637,41 @@ def edge_energy_profile(particle, width: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def fitted_boundary_layer_length(particle, window=(3.0, 8.0), width=None, iterations: int = 20) -> float:
-    """Boundary-layer length by the paper's protocol (Fig. 5b): the decay length of a
-    log-linear fit of the excess energy per particle against the distance from a strip's edge
-    (``edge_energy_profile``), over ``window`` in units of the length itself, iterated to a
-    fixed point from ``ell_pred``. Near the edge the excess is a sum of decaying modes (for the
-    simple particle ``exp(-d/ell) - exp(-2 d/ell)``), so a window that starts too
-    close overestimates; for small ell a window holds few rows and the fit is coarse.
-    Compare ``boundary_layer_length`` (exact slowest mode)."""
+    """Boundary-layer length by the paper's protocol (Fig. 5b).
+
+    The decay length of a log-linear fit of the excess energy per particle against the distance
+    from a strip's edge (``edge_energy_profile``), over ``window`` in units of the length itself,
+    iterated to a fixed point from ``ell_pred``. Near the edge the excess is a sum of decaying
+    modes (for the simple particle ``exp(-d/ell) - exp(-2 d/ell)``), so a window that starts too
+    close overestimates; for small ell a window holds few rows and the fit is coarse. Compare
+    ``boundary_layer_length`` (exact slowest mode).
+
+    Parameters
+    ----------
+    particle : RandomHexagon or Hexagon
+        The particle model.
+    window : tuple of float, optional
+        Start and end of the fit window, in units of the length being fitted.
+    width : int, optional
+        Rows of the strip (default ``40 ell`` within 60..600).
+    iterations : int, optional
+        Cap on fixed-point iterations.
+
+    Returns
+    -------
+    float
+        Lattice spacings.
+
+    Raises
+    ------
+    TypeError
+        If ``particle`` is not a particle model.
+    ValueError
+        For a bad window.
+    RuntimeError
+        If the strip holds too few rows in the window, or shows no decay.
+    """
+    _checks.particle("particle", particle)
     lo, hi = window
     if not (0 <= lo < hi):
         raise ValueError(f"window must satisfy 0 <= start < end, got {window!r}")
@@ -445,9 +705,39 @@ SAMPLE_FIELDS = ("index", "ell", "ell_pred", "ell_eigen", "nu", "nu_up", "nu_dow
 
 
 def sample_properties(n: int, seed: int, start: int = 0) -> dict:
-    """Boundary-layer lengths (exact, ``boundary_layer_lengths``), predictors and Poisson ratio
-    of the random particles ``start .. start + n - 1`` of sample ``seed``: a dict of arrays
-    named as ``SAMPLE_FIELDS`` (``index`` regenerates a particle with ``RandomHexagon.draw``)."""
+    """Boundary-layer lengths, predictors and Poisson ratios of a sample of random particles.
+
+    Of the random particles ``start .. start + n - 1`` of sample ``seed``: exact lengths
+    (``boundary_layer_lengths``) and the ``pseudo_moduli`` predictors.
+
+    Parameters
+    ----------
+    n : int
+        Particles, ``>= 0``.
+    seed : int
+        The sample.
+    start : int, optional
+        Index of the first.
+
+    Returns
+    -------
+    dict of ndarray, each of shape (n,)
+        Named as ``SAMPLE_FIELDS``; ``index`` regenerates a particle with ``RandomHexagon.draw``.
+
+    Raises
+    ------
+    ValueError
+        For a bad ``n`` or ``start``, or ``n`` too large for memory.
+
+    Examples
+    --------
+    >>> from pyfrustrate import random_particles as rp
+    >>> s = rp.sample_properties(5, seed=1)
+    >>> s["index"].tolist(), s["ell"].round(3).tolist()
+    ([0, 1, 2, 3, 4], [0.715, 0.93, 0.557, 1.092, 0.861])
+    """
+    # The matrices, then pseudo_moduli's per-matrix products of the same order.
+    _checks.affordable(f"sample_properties(n={n})", 3 * _checks.integer("n", n, 0) * MATRIX_BYTES)
     M = elasticity_matrices(n, seed, start)
     out = {k: v for k, v in pseudo_moduli(M).items() if k in SAMPLE_FIELDS}
     out["ell"] = boundary_layer_lengths(M)
@@ -456,10 +746,28 @@ def sample_properties(n: int, seed: int, start: int = 0) -> dict:
 
 
 def select_uniform(values, count: int, bins, seed: int) -> np.ndarray:
-    """Indices into ``values`` of up to ``count`` entries spread evenly over ``bins`` (an equal
-    share per bin, drawn at random without replacement, seeded): the paper's selection of
+    """Indices of up to ``count`` entries spread evenly over ``bins``.
+
+    An equal share per bin, drawn at random without replacement, seeded: the paper's selection of
     particles with a near-uniform distribution of Poisson ratios (supplement, Fig. S4b). Bins
-    with fewer entries than their share give all they have."""
+    with fewer entries than their share give all they have.
+
+    Parameters
+    ----------
+    values : array_like, shape (n,)
+        The values binned (e.g. Poisson ratios).
+    count : int
+        How many to select.
+    bins : array_like
+        Bin edges, increasing.
+    seed : int
+        Seed of the draw.
+
+    Returns
+    -------
+    ndarray of int
+        Sorted indices into ``values``.
+    """
     values = np.asarray(values, float)
     bins = np.asarray(bins, float)
     rng = np.random.default_rng(seed)
@@ -480,11 +788,37 @@ PHASE_CODES = ("bulk_with_holes", "disk", "fiber", "bulk")
 
 
 def binding_energy(particle, Gamma, ell: float, nu: float):
-    """Binding energy ``g`` per bound pair of sides giving line tension ``Gamma`` to a particle
-    of boundary-layer length ``ell`` and Poisson ratio ``nu``: main text
-    ``Gamma = 2 gamma / ((1 + nu) ell e_bulk)`` with ``gamma = g`` (the convention measured in
-    ``ansatz``) and ``e_bulk`` the bulk deformation energy per unit reference area."""
+    """Binding energy ``g`` per bound pair of sides giving line tension ``Gamma`` to a particle of
+    boundary-layer length ``ell`` and Poisson ratio ``nu``.
+
+    Main text ``Gamma = 2 gamma / ((1 + nu) ell e_bulk)`` with ``gamma = g`` (the measured
+    convention, ``continuum``) and ``e_bulk`` the bulk deformation energy per unit reference area.
+
+    Parameters
+    ----------
+    particle : RandomHexagon or Hexagon
+        The particle model (its ``bulk_energy_per_particle``).
+    Gamma : array_like
+        Dimensionless line tension(s).
+    ell : float
+        Boundary-layer length, lattice spacings, positive and finite.
+    nu : float
+        Poisson ratio, in (-1, 1).
+
+    Returns
+    -------
+    ndarray
+        ``g``, shape of ``Gamma``.
+
+    Raises
+    ------
+    TypeError
+        If ``particle`` is not a particle model.
+    ValueError
+        For ``ell`` or ``nu`` out of range.
+    """
     from .topology import AREA_PER_PARTICLE
+    _checks.particle("particle", particle)
     if not (np.isfinite(ell) and ell > 0):
         raise ValueError(f"ell must be positive and finite, got {ell!r}")
     if not (-1 < nu < 1):
@@ -494,8 +828,22 @@ def binding_energy(particle, Gamma, ell: float, nu: float):
 
 
 def catalogue_for(ell: float, radius_per_ell=6.0, width_per_ell=8.0, radius_limits=(6, 40), width_limits=(10, 60)):
-    """The pre-made aggregates for a particle of boundary-layer length ``ell``: disks and fibres
-    out to a few ``ell`` (optimal sizes are ~ell, main text Fig. 5d), within limits."""
+    """The pre-made aggregates for a particle of boundary-layer length ``ell``: disks and fibres out
+    to a few ``ell`` (optimal sizes are ~ell, main text Fig. 5d), within limits.
+
+    Parameters
+    ----------
+    ell : float
+        Boundary-layer length, lattice spacings.
+    radius_per_ell, width_per_ell : float, optional
+        Largest disk radius and fibre width, in units of ``ell``.
+    radius_limits, width_limits : tuple of int, optional
+        Bounds on them, in lattice steps and lattice lines.
+
+    Returns
+    -------
+    list of ansatz.Candidate
+    """
     from .ansatz import catalogue
     R = int(np.clip(np.ceil(radius_per_ell * ell), *radius_limits))
     W = int(np.clip(np.ceil(width_per_ell * ell), *width_limits))
@@ -503,14 +851,41 @@ def catalogue_for(ell: float, radius_per_ell=6.0, width_per_ell=8.0, radius_limi
 
 
 def line_tension_grid(Gamma_max: float, count: int, linear_until: float = 2.0) -> np.ndarray:
-    """Line tensions of the aggregation diagrams (Fig. 6): half the points evenly on
-    ``[0, linear_until]``, where the phases change, the rest geometric up to ``Gamma_max``, where
-    the bulk of small-ell particles takes over (their Gamma_max reaches tens: Gamma is measured
-    in units of the particle's own ell)."""
+    """Line tensions of the aggregation diagrams (Fig. 6).
+
+    Half the points evenly on ``[0, linear_until]``, where the phases change, the rest geometric
+    up to ``Gamma_max``, where the bulk of small-ell particles takes over (their Gamma_max reaches
+    tens: Gamma is measured in units of the particle's own ell).
+
+    Parameters
+    ----------
+    Gamma_max : float
+        Largest line tension, positive and finite.
+    count : int
+        Points, ``>= 4``.
+    linear_until : float, optional
+        End of the evenly spaced part.
+
+    Returns
+    -------
+    ndarray, shape (count,)
+
+    Raises
+    ------
+    ValueError
+        For a bad ``Gamma_max`` or ``count``, or ``count`` too large for memory.
+
+    Examples
+    --------
+    >>> from pyfrustrate import random_particles as rp
+    >>> rp.line_tension_grid(10.0, 8).round(3)
+    array([ 0.   ,  0.667,  1.333,  2.   ,  2.991,  4.472,  6.687, 10.   ])
+    """
     if not (Gamma_max > 0 and np.isfinite(Gamma_max)):
         raise ValueError(f"Gamma_max must be positive and finite, got {Gamma_max!r}")
     if int(count) != count or count < 4:
         raise ValueError(f"count must be an integer >= 4, got {count!r}")
+    _checks.affordable(f"line_tension_grid(count={count})", 3 * 8 * int(count))  # two pieces and their join
     if Gamma_max <= linear_until:
         return np.linspace(0.0, Gamma_max, int(count))
     n_linear = int(count) // 2
@@ -521,19 +896,43 @@ def line_tension_grid(Gamma_max: float, count: int, linear_until: float = 2.0) -
 def aggregation_line(particle, Gamma, ell: float, nu: float, candidates=None, method: str = "linear",
                      relative: bool = False) -> dict:
     """One particle's line of an aggregation diagram (main text Fig. 6) and its optimal sizes
-    (Fig. 5d): every candidate of ``catalogue_for(ell)`` relaxed once, then at each ``Gamma``
+    (Fig. 5d).
 
-    ``phase``       index into ``PHASE_CODES`` of the lowest total energy per particle;
-    ``width``       W* of the best fibre among fibres (continuum width, lattice units);
-    ``radius``      R* of the best disk among disks and the single particle;
-    ``width_capped``, ``radius_capped``  whether that best fibre (disk) is the largest of its
-                    family in the catalogue: the optimum may then lie beyond it;
-    ``Gamma_max``   the line tension above which the bulk wins (exact: every total energy is
-                    linear in g, so it is the largest crossing of the bulk with another candidate).
+    Every candidate of ``catalogue_for(ell)`` is relaxed once, then compared at each ``Gamma``.
 
-    ``relative=True`` reads ``Gamma`` in units of ``Gamma_max`` (Fig. S2). ``method='linear'`` is
-    exact as eps -> 0, where Gamma captures all of the eps dependence."""
+    Parameters
+    ----------
+    particle : RandomHexagon or Hexagon
+        The particle model.
+    Gamma : array_like
+        Line tensions (measured convention, ``binding_energy``).
+    ell, nu : float
+        The particle's boundary-layer length (lattice spacings) and Poisson ratio.
+    candidates : list of ansatz.Candidate, optional
+        Default ``catalogue_for(ell)``.
+    method : {'auto', 'newton', 'lbfgs', 'linear'}, optional
+        ``'linear'`` (default) is exact as eps -> 0, where Gamma captures all of the eps
+        dependence.
+    relative : bool, optional
+        Read ``Gamma`` in units of ``Gamma_max`` (Fig. S2).
+
+    Returns
+    -------
+    dict
+        ``phase`` (index into ``PHASE_CODES`` of the lowest total energy per particle, per
+        ``Gamma``); ``width`` (W* of the best fibre among fibres, lattice spacings); ``radius`` (R*
+        of the best disk among disks and the single particle); ``width_capped``,
+        ``radius_capped`` (whether that best fibre or disk is the largest of its family in the
+        catalogue: the optimum may then lie beyond it); ``Gamma_max`` (the line tension above
+        which the bulk wins, exact: every total energy is linear in g); ``converged``.
+
+    Raises
+    ------
+    TypeError
+        If ``particle`` is not a particle model.
+    """
     from .ansatz import FAMILY_PHASE, relax_catalogue
+    _checks.particle("particle", particle)
     candidates = catalogue_for(ell) if candidates is None else candidates
     energies = relax_catalogue(particle, candidates, method=method)
     bulk = np.flatnonzero(energies.family == "bulk")[0]

@@ -28,8 +28,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _kernel
+from . import _checks
 from ._checks import integer
-from .topology import Topology, tiling_facts
+from .topology import Topology
 
 METHODS = ("auto", "lbfgs", "linear", "newton")
 #: What ``method="auto"`` runs: Newton was the fastest exact method on every scene measured
@@ -38,11 +39,28 @@ AUTO_METHOD = "newton"
 
 
 class StiffnessCache:
-    """What repeated relaxations of one topology reuse: the sparsity pattern of its Hessian,
-    CHOLMOD's symbolic analysis (fill-reducing ordering, supernodes) and the factorised eps = 0
-    stiffness of the last particle stiffness it served (refactorised, numerically only, when
-    another particle comes). The caller owns it; pass it as ``relax(..., cache=...)``. Threads
-    sharing one take turns (each relaxation holds it for its duration).
+    """What repeated relaxations of one topology reuse.
+
+    The sparsity pattern of its Hessian, CHOLMOD's symbolic analysis (fill-reducing ordering,
+    supernodes) and the factorised eps = 0 stiffness of the last particle stiffness it served
+    (refactorised, numerically only, when another particle comes). The caller owns it; pass it as
+    ``relax(..., cache=...)``. Threads sharing one take turns (each relaxation holds it for its
+    duration).
+
+    Parameters
+    ----------
+    topology : Topology
+        The one topology it serves; ``relax`` refuses it for another.
+
+    Examples
+    --------
+    >>> from pyfrustrate import Hexagon, StiffnessCache, relax, topology
+    >>> disk = topology.disk(3)
+    >>> cache = StiffnessCache(disk)
+    >>> for nu in (0.3, 0.5, 0.7):
+    ...     _ = relax(Hexagon.from_continuum(ell=2, nu=nu), disk, cache=cache)
+    >>> cache.reference_factorizations  # one symbolic analysis, a numeric factorisation per particle
+    3
     """
 
     def __init__(self, topology: Topology):
@@ -64,12 +82,16 @@ class StiffnessCache:
 
 
 class ConvergenceWarning(RuntimeWarning):
-    """A minimisation stopped before reaching its tolerance."""
+    """A minimisation stopped before reaching its tolerance (the result says ``converged=False``)."""
 
 
 @dataclass(frozen=True)
 class Relaxation:
     """Result of ``relax``.
+
+    Energies are **deformation energies** only, in the particle's energy unit (``k`` times squared
+    lattice spacings): the binding is not included. The total energy at binding energy ``g`` per
+    bound pair of sides is ``energy - g * n_bonds``.
 
     Attributes
     ----------
@@ -77,12 +99,12 @@ class Relaxation:
         Deformation energy of the aggregate (of one cell if periodic).
     n_particles, n_bonds : int
         Particles and bound pairs of sides (per cell if periodic).
-    state : ndarray
-        Degrees of freedom: corners ``(x0, y0, x1, ...)`` then period-map parameters
-        (fibre: ``tx, ty[, bend]`` with ``bend = bend_scale * angle`` between images, see
-        ``Topology``; bulk: ``t1x, t1y, t2x, t2y``).
+    state : ndarray, shape (2 n_corners + n_period_parameters,)
+        Degrees of freedom: corners ``(x0, y0, x1, ...)`` in lattice spacings, then period-map
+        parameters (fibre: ``tx, ty[, bend]`` with ``bend = bend_scale * angle`` between images,
+        see ``Topology``; bulk: ``t1x, t1y, t2x, t2y``).
     converged : bool
-        L-BFGS: the largest gradient component fell below ``tol * particle.force_scale``
+        The largest gradient component fell below ``tol * particle.force_scale``
         (``eps * max(k, |k_area|, kc)``); linear: the solve succeeded.
     iterations : int
         Energy and gradient evaluations (1 for the linear solve).
@@ -92,11 +114,18 @@ class Relaxation:
         The minimisers' last word: which did the work and why it stopped.
     method : str
         The method run (``"auto"`` resolved).
-    displacement : ndarray
+    n_corners : int
+        Distinct corners of the topology.
+    displacement : ndarray, shape like ``state``
         ``state`` minus the bulk reference state, exact to round-off (``state`` rounds it to
         the size of the coordinates).
     newton_steps, factorizations, lbfgs_evaluations : int
         Newton steps taken, exact Hessians factorised, evaluations spent in L-BFGS.
+    factor : RelaxedCluster or None
+        With ``keep_factor=True`` or a ``parent`` (Newton): this aggregate with its Hessian
+        factor, to pass as ``parent`` when relaxing an aggregate a few particles away.
+    from_parent : bool
+        The parent's factor was modified and used (else the relaxation was made fresh).
     """
 
     energy: float
@@ -113,48 +142,102 @@ class Relaxation:
     newton_steps: int = 0
     factorizations: int = 0
     lbfgs_evaluations: int = 0
+    factor: object = None
+    from_parent: bool = False
 
     @property
     def energy_per_particle(self) -> float:
+        """Deformation energy per particle (``energy / n_particles``); divide by the particle's
+        ``bulk_energy_per_particle`` for the continuum's unit, ``e_bulk`` per unit area.
+        """
         return self.energy / self.n_particles
 
     @property
     def positions(self) -> np.ndarray:
-        """Corner positions, shape (n_corners, 2)."""
+        """Corner positions in lattice spacings, shape (n_corners, 2)."""
         return self.state[: 2 * self.n_corners].reshape(-1, 2)
 
     @property
     def period(self) -> np.ndarray:
-        """Period-map parameters (empty for a finite aggregate)."""
+        """Period-map parameters, shape (n_period_parameters,) (empty for a finite aggregate)."""
         return self.state[2 * self.n_corners:]
 
 
 def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5, x0=None,
-          max_iter: int = 500_000, memory: int = 10, cache: StiffnessCache | None = None) -> Relaxation:
-    """Minimise the deformation energy of ``topology`` made of ``particle``s.
+          max_iter: int = 500_000, memory: int = 10, cache: StiffnessCache | None = None,
+          parent=None, keep_factor: bool = False) -> Relaxation:
+    """Minimise the deformation energy of ``topology`` made of ``particle`` s at fixed topology.
+
+    The inner minimisation of main text Eq. 7. The result is the **deformation energy only**: the
+    binding is not included. To compare with the continuum theory, take the continuum at
+    ``Gamma = 0``: ``energy_per_particle / particle.bulk_energy_per_particle`` is the energy per
+    unit area in units of ``e_bulk``, to set against e.g. ``continuum.fiber_energy(W / ell, nu,
+    0)`` with ``W`` the topology's ``size``. Or add the binding yourself: the total energy is
+    ``energy - g * n_bonds``, with ``g`` from ``continuum.particle_parameters`` (whose
+    ``convention`` says how Gamma maps to ``g``).
 
     Parameters
     ----------
-    particle : Hexagon or RandomHexagon
+    particle : Hexagon, Triangle or RandomHexagon
+        The particle model (any ``Particle`` of the topology's tiling).
     topology : Topology
-    method : {"auto", "newton", "lbfgs", "linear"}
+        The aggregate (``pyfrustrate.topology``).
+    method : {"auto", "newton", "lbfgs", "linear"}, optional
         ``"auto"`` runs the fastest exact method (``AUTO_METHOD``); see the module docstring.
-    tol : float
+    tol : float, optional
         Stop when the largest gradient component is below ``tol * particle.force_scale``
         (forces are of order ``eps * max(k, |k_area|)``). Newton reaches 1e-12 where round-off
         allows; a run stopped by round-off says so in ``status``.
-    x0 : None, "linear" or array
+    x0 : None, "linear" or array_like, optional
         L-BFGS start: the bulk reference (None), the linear solution ("linear") or a given
         state (warm start, same layout as ``Relaxation.state``). Newton always starts from the
         linear solution.
-    max_iter : int
+    max_iter : int, optional
         Cap on energy and gradient evaluations.
+    memory : int, optional
+        L-BFGS's stored pairs of updates.
     cache : StiffnessCache, optional
         Reuse the symbolic analysis and reference factorisation of earlier relaxations of the
         same topology (one is made and dropped otherwise).
+    parent : RelaxedCluster, optional
+        ``Relaxation.factor`` of an aggregate that differs from ``topology`` by a few particles
+        (same tiling, sites matched): Newton starts from its relaxed state and modifies its
+        factor (rows added and deleted, low-rank updates) instead of making one; the energy is
+        exact to ``tol`` as always (kernel/parent_factor.hpp). Periodic cells relax fresh.
+    keep_factor : bool, optional
+        Return this aggregate's factor as ``Relaxation.factor`` (Newton).
 
-    A run that stops short of ``tol`` returns ``converged=False`` and emits a
-    ``ConvergenceWarning`` with the reason; a non-finite energy raises ``RuntimeError``.
+    Returns
+    -------
+    Relaxation
+        A run that stops short of ``tol`` returns ``converged=False`` and emits a
+        ``ConvergenceWarning`` with the reason.
+
+    Raises
+    ------
+    TypeError
+        If ``particle`` is not a particle model or ``topology`` not a ``Topology``.
+    ValueError
+        For a bad method, tolerance, start, cache, or a topology in several pieces with
+        ``method='linear'`` or ``'newton'``.
+    RuntimeError
+        If the energy becomes non-finite or the minimiser leaves the physical minimum.
+
+    Examples
+    --------
+    A straight fibre of 6 rows against the continuum at the same ``ell`` and ``nu``, at
+    ``Gamma = 0`` since ``relax`` returns deformation energy only:
+
+    >>> from pyfrustrate import Hexagon, continuum, relax, topology
+    >>> p = Hexagon.from_continuum(ell=2.0, nu=0.5)
+    >>> f = topology.fiber(6, curved=False)
+    >>> r = relax(p, f)
+    >>> r.converged, r.n_particles, r.n_bonds
+    (True, 6, 16)
+    >>> round(float(r.energy_per_particle / p.bulk_energy_per_particle), 3)
+    0.502
+    >>> round(float(continuum.fiber_energy(f.size / 2.0, 0.5, 0.0)), 3)  # W / ell, nu, Gamma = 0
+    0.503
     """
     _check_scene(particle, topology)
     if method not in METHODS:
@@ -169,36 +252,30 @@ def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5,
             raise ValueError(f"cache must be a StiffnessCache, got {type(cache).__name__}")
         if cache.topology is not topology:
             raise ValueError(f"cache: it was made for {cache.topology.label}, not for {topology.label}")
-    parts = _connected_parts(topology)
-    if method == "auto":
-        # The linear and Newton solves pin one rigid motion per topology: a topology in several
-        # pieces (or hinged at single corners) keeps the others' free, and its stiffness is
-        # singular. L-BFGS needs no pins.
-        method = "lbfgs" if x0 is not None or parts > 1 else AUTO_METHOD
-    elif method in ("linear", "newton") and parts > 1:
-        raise ValueError(f"topology: {topology.label} falls into {parts} pieces joined by no side, which method={method!r} "
-                         "cannot pin (each moves rigidly on its own): use method='lbfgs' or 'auto', or relax each piece")
+    if method == "newton" and x0 is not None:
+        raise ValueError("x0: method='newton' always starts from the linear solution")
+    if parent is not None and not isinstance(parent, _kernel.RelaxedCluster):
+        raise TypeError(f"parent must be the .factor of an earlier Relaxation (relax(..., keep_factor=True)), "
+                        f"got {type(parent).__name__}")
     model = particle._kernel_model
-    kcache = cache._kernel if cache is not None else None
-    force_tol = tol * particle.force_scale
-    if method == "linear":
-        out = _kernel.relax_linear(model, topology.kernel, kcache)
-    elif method == "newton":
-        if x0 is not None:
-            raise ValueError("x0: method='newton' always starts from the linear solution")
-        out = _kernel.relax_newton(model, topology.kernel, force_tol, int(max_iter), kcache)
-    else:
-        if x0 is None:
-            start = topology.reference_state()
-        elif isinstance(x0, str):
-            if x0 != "linear":
-                raise ValueError(f"x0 must be None, 'linear' or an array, got {x0!r}")
-            start = np.asarray(_kernel.relax_linear(model, topology.kernel, kcache)["x"])
-        else:
-            start = np.asarray(x0, dtype=float).ravel()
-            if start.shape != topology.reference_state().shape:
-                raise ValueError(f"x0 has {start.size} entries, the topology needs {topology.reference_state().size}")
-        out = _kernel.relax_lbfgs(model, topology.kernel, start, force_tol, int(max_iter), int(memory), kcache)
+    start, from_linear = None, False
+    if isinstance(x0, str):
+        if x0 != "linear":
+            raise ValueError(f"x0 must be None, 'linear' or an array, got {x0!r}")
+        from_linear = True
+    elif x0 is not None:
+        state = np.asarray(x0, dtype=float).ravel()
+        if state.shape != topology.reference_state().shape:
+            raise ValueError(f"x0 has {state.size} entries, the topology needs {topology.reference_state().size}")
+        if not np.all(np.isfinite(state)):
+            raise ValueError("x0 contains non-finite values")
+        start = state - topology.reference_state()
+    # The kernel's one policy (kernel/relax_policy.hpp) picks the method for "auto", its start and
+    # fallbacks; a parent's factor is modified instead of a new one made.
+    out = _kernel.relax(model, topology.kernel, method, tol * particle.force_scale, int(max_iter), int(memory),
+                        start=start, lbfgs_from_linear=from_linear, cache=cache._kernel if cache is not None else None,
+                        parent=parent, keep_factor=bool(keep_factor or parent is not None))
+    method = out["method"]
     if not np.isfinite(out["energy"]):
         raise RuntimeError(f"relax: the energy became non-finite ({out['status']})")
     if out["energy"] < -10 * topology.n_particles * particle.force_scale * particle.eps:
@@ -216,37 +293,14 @@ def relax(particle, topology: Topology, method: str = "auto", tol: float = 1e-5,
     return Relaxation(float(out["energy"]), topology.n_particles, topology.n_bonds, np.asarray(out["x"]),
                       bool(out["converged"]), int(out["iterations"]), float(out["gradient_norm"]), out["status"],
                       method, topology.n_corners, np.asarray(out["displacement"]), int(out["newton_steps"]),
-                      int(out["factorizations"]), int(out["lbfgs_evaluations"]))
-
-
-def _connected_parts(topology: Topology) -> int:
-    """How many rigidly joined pieces a finite topology's particles form: particles are joined
-    when they share a side, the corners of both its ends (a triangle's vertex carries two, its
-    yellow and red nodes). Sharing one vertex only is a hinge (triangles touching at a tip),
-    free to turn. Periodic cells count as one piece: there images of one corner share an index
-    (the triangle bulk has two corners in all), and builders check their connectivity."""
-    if topology.periodicity != "none":
-        return 1
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    corners = np.asarray(topology.kernel.corners)
-    n_particles, per_particle = corners.shape
-    side = 2 * per_particle // tiling_facts(topology.tiling)["coordination"]  # corners at a side's two ends
-    incidence = coo_matrix((np.ones(corners.size), (np.repeat(np.arange(n_particles), per_particle), corners.ravel())),
-                           shape=(n_particles, topology.n_corners)).tocsr()
-    shared = (incidence @ incidence.T).tocoo()
-    joined = shared.data >= side
-    sides = coo_matrix((np.ones(int(joined.sum())), (shared.row[joined], shared.col[joined])),
-                       shape=(n_particles, n_particles))
-    return int(connected_components(sides, directed=False)[0])
+                      int(out["factorizations"]), int(out["lbfgs_evaluations"]), out["factor"],
+                      bool(out["from_parent"]))
 
 
 def _check_scene(particle, topology) -> None:
     """TypeError naming the argument that is not a particle model or not a ``Topology`` (rather
     than an AttributeError from deep inside). A particle of another tiling is the kernel's to refuse."""
-    if getattr(particle, "_kernel_model", None) is None or not hasattr(particle, "tiling"):
-        raise TypeError(f"particle must be a particle model (Hexagon, Triangle, RandomHexagon), got {particle!r}")
+    _checks.particle("particle", particle)
     if not isinstance(topology, Topology):
         raise TypeError(f"topology must be a pyfrustrate.topology.Topology, got {type(topology).__name__}")
 
@@ -267,27 +321,128 @@ def _state(particle, topology: Topology, state) -> np.ndarray:
 
 
 def energy(particle, topology: Topology, state) -> tuple[float, np.ndarray]:
-    """Deformation energy at ``state`` and its gradient (same layout)."""
-    return _kernel.energy(particle._kernel_model, topology.kernel, _state(particle, topology, state))
+    """Deformation energy at a given state, and its gradient.
+
+    Parameters
+    ----------
+    particle : Hexagon, Triangle or RandomHexagon
+        The particle model (any ``Particle`` of the topology's tiling).
+    topology : Topology
+        The aggregate (``pyfrustrate.topology``).
+    state : array_like, shape (2 n_corners + n_period_parameters,)
+        Degrees of freedom, laid out as ``Relaxation.state`` (corners, then period parameters).
+
+    Returns
+    -------
+    energy : float
+        Deformation energy (of one cell if periodic), binding not included.
+    gradient : ndarray, shape like ``state``
+        Its derivative with respect to ``state``.
+
+    Raises
+    ------
+    TypeError
+        If ``particle`` is not a particle model or ``topology`` not a ``Topology``.
+    ValueError
+        If ``state`` has the wrong shape or non-finite entries.
+    """
+    x = _state(particle, topology, state)  # checks the particle before its attributes are read
+    return _kernel.energy(particle._kernel_model, topology.kernel, x)
 
 
 def particle_energies(particle, topology: Topology, state) -> np.ndarray:
-    """Deformation energy of each particle, shape (n_particles,)."""
-    return np.asarray(_kernel.particle_energies(particle._kernel_model, topology.kernel, _state(particle, topology, state)))
+    """Deformation energy of each particle at a given state.
+
+    Parameters
+    ----------
+    particle : Hexagon, Triangle or RandomHexagon
+        The particle model (any ``Particle`` of the topology's tiling).
+    topology : Topology
+        The aggregate (``pyfrustrate.topology``).
+    state : array_like, shape (2 n_corners + n_period_parameters,)
+        Degrees of freedom, laid out as ``Relaxation.state`` (corners, then period parameters).
+
+    Returns
+    -------
+    ndarray, shape (n_particles,)
+        In the order of ``topology.sites``; they sum to the aggregate's energy.
+
+    Raises
+    ------
+    TypeError
+        If ``particle`` is not a particle model or ``topology`` not a ``Topology``.
+    ValueError
+        If ``state`` has the wrong shape or non-finite entries.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from pyfrustrate import Hexagon, relax, topology
+    >>> from pyfrustrate.relaxation import particle_energies
+    >>> p, disk = Hexagon.from_continuum(ell=2.0, nu=0.5), topology.disk(1)
+    >>> r = relax(p, disk)
+    >>> e = particle_energies(p, disk, r.state)
+    >>> np.round(e / p.bulk_energy_per_particle, 3)  # the centre (site (0, 0)) deforms least
+    array([0.067, 0.067, 0.067, 0.02 , 0.067, 0.067, 0.067])
+    >>> bool(np.isclose(e.sum(), r.energy))
+    True
+    """
+    x = _state(particle, topology, state)
+    return np.asarray(_kernel.particle_energies(particle._kernel_model, topology.kernel, x))
 
 
 def particle_corners(particle, topology: Topology, state) -> np.ndarray:
-    """Corner positions seen by each particle (periodic images applied), shape (n_particles, 6, 2)."""
-    c = _kernel.particle_corners(particle._kernel_model, topology.kernel, _state(particle, topology, state))
+    """Corner positions seen by each particle, periodic images applied.
+
+    Parameters
+    ----------
+    particle : Hexagon, Triangle or RandomHexagon
+        The particle model (any ``Particle`` of the topology's tiling).
+    topology : Topology
+        The aggregate (``pyfrustrate.topology``).
+    state : array_like, shape (2 n_corners + n_period_parameters,)
+        Degrees of freedom, laid out as ``Relaxation.state`` (corners, then period parameters).
+
+    Returns
+    -------
+    ndarray, shape (n_particles, corners per particle, 2)
+        In lattice spacings, in the kernel's slot order (``Hexagon.evaluate``).
+
+    Raises
+    ------
+    TypeError
+        If ``particle`` is not a particle model or ``topology`` not a ``Topology``.
+    ValueError
+        If ``state`` has the wrong shape or non-finite entries.
+    """
+    x = _state(particle, topology, state)
+    c = _kernel.particle_corners(particle._kernel_model, topology.kernel, x)
     return np.asarray(c).reshape(topology.n_particles, -1, 2)
 
 
 def periodic_images(topology: Topology, state, corners, images=range(-1, 2)) -> np.ndarray:
     """Corners of several periods of a periodic cell, for drawing.
 
-    ``corners``: (n_particles, m, 2) corners of the cell (``particle_corners``); ``images``:
-    the period indices to generate (fibre) — a bulk cell is repeated over ``images x images``.
-    Returns (n_images * n_particles, m, 2). A finite topology is returned unchanged.
+    Parameters
+    ----------
+    topology : Topology
+        The cell.
+    state : array_like
+        Its relaxed state (``Relaxation.state``).
+    corners : array_like, shape (n_particles, m, 2)
+        Corners of the cell (``particle_corners``).
+    images : iterable of int, optional
+        The period indices to generate (fibre); a bulk cell is repeated over ``images x images``.
+
+    Returns
+    -------
+    ndarray, shape (n_images * n_particles, m, 2)
+        A finite topology's corners are returned unchanged.
+
+    Raises
+    ------
+    ValueError
+        If ``state`` or ``corners`` hold non-finite values.
     """
     state = np.asarray(state, float)
     corners = np.asarray(corners, float)
@@ -303,10 +458,44 @@ def periodic_images(topology: Topology, state, corners, images=range(-1, 2)) -> 
 
 
 def relaxed_drawing(particle, topology: Topology, images=None, **relax_options):
-    """What a figure draws of a relaxed aggregate: ``(corners, energies, relaxation)``, the
-    corners (``particle_corners``) and each particle's energy (``particle_energies``), repeated
-    over the periods ``images`` of a periodic cell (``periodic_images``; None: the cell alone).
-    ``relax_options`` go to ``relax``."""
+    """What a figure draws of a relaxed aggregate.
+
+    Parameters
+    ----------
+    particle : Hexagon, Triangle or RandomHexagon
+        The particle model (any ``Particle`` of the topology's tiling).
+    topology : Topology
+        The aggregate (``pyfrustrate.topology``).
+    images : iterable of int, optional
+        Periods of a periodic cell to repeat (``periodic_images``); None: the cell alone.
+    **relax_options
+        Passed to ``relax``.
+
+    Returns
+    -------
+    corners : ndarray, shape (n, corners per particle, 2)
+        Each particle's corners (``particle_corners``), repeated over ``images``.
+    energies : ndarray, shape (n,)
+        Each particle's deformation energy (``particle_energies``), repeated alike.
+    relaxation : Relaxation
+        The relaxation of the cell.
+
+    Raises
+    ------
+    TypeError, ValueError, RuntimeError
+        As ``relax``.
+
+    Examples
+    --------
+    >>> from pyfrustrate import Hexagon, topology
+    >>> from pyfrustrate.relaxation import relaxed_drawing
+    >>> p = Hexagon.from_continuum(ell=2.0, nu=0.5)
+    >>> corners, energies, r = relaxed_drawing(p, topology.fiber(3), images=range(-1, 2))
+    >>> corners.shape, energies.shape  # three periods of a 3-particle cell
+    ((9, 6, 2), (9,))
+
+    Drawn with ``pyfrustrate.plotting.draw_hexagons(ax, corners, energies)``.
+    """
     r = relax(particle, topology, **relax_options)
     corners = particle_corners(particle, topology, r.state)
     energies = particle_energies(particle, topology, r.state)
@@ -318,8 +507,21 @@ def relaxed_drawing(particle, topology: Topology, images=None, **relax_options):
 
 
 def fiber_curvature(topology: Topology, state) -> float:
-    """Curvature (1/radius, lattice units) of a relaxed curved fibre: the angle between
-    successive images over the period length. Zero for straight fibres."""
+    """Curvature of a relaxed curved fibre: the angle between successive images over the period
+    length.
+
+    Parameters
+    ----------
+    topology : Topology
+        The fibre.
+    state : array_like
+        Its relaxed state.
+
+    Returns
+    -------
+    float
+        In inverse lattice spacings; 0 for straight fibres and other topologies.
+    """
     if topology.periodicity != "fiber" or not topology.curved:
         return 0.0
     period = np.asarray(state, float)[2 * topology.n_corners:]

@@ -51,32 +51,90 @@ from math import gcd, isqrt
 import numpy as np
 
 from . import _kernel
-from ._checks import integer, non_negative
+from ._checks import affordable, integer, non_negative
 
 SQRT3 = np.sqrt(3.0)
+
+# Memory estimates: upper bounds, with some headroom, on the peak memory per particle or grid
+# cell (tests/test_api.py checks each against what building a topology really takes). A size
+# whose estimate exceeds the allowed share of memory is refused up front (``_checks.affordable``)
+# instead of dying in numpy's allocator or swapping the machine.
+#: Bytes per particle of a ``Topology`` (the kernel's corner graph).
+TOPOLOGY_BYTES_PER_PARTICLE = 400
+#: Bytes per lattice cell of the numpy grids each site builder scans (coordinates, masks, sorts).
+GRID_BYTES_PER_CELL = {"hexagon_sites": 48, "triangle_hexagon_sites": 104, "stadium_sites": 120,
+                       "triangle_fiber": 160}
+#: Bytes per particle of a fibre's connectivity check (Python sets of nine images), topology
+#: included.
+FIBER_BYTES_PER_PARTICLE = 3600
 TILINGS = ("hexagon", "triangle")
 _PERIODICITY = {"none": 0, "fiber": 1, "bulk": 2}
 
 
 @lru_cache(maxsize=None)
 def tiling_facts(tiling: str = "hexagon") -> dict:
-    """What the kernel knows of a tiling (``kernel/tiling.hpp``): ``sublattices``, ``corners`` per
-    particle, ``coordination`` (edge neighbours per site), ``bulk_bonds_per_particle``,
-    ``neighbours`` (per sublattice, ``(di, dj, sublattice)``), ``slot_offsets`` (corner positions
-    from the site centre, per sublattice), ``frames`` (rotation of each sublattice's particles),
-    ``site_offsets``. The one definition of each, asked for rather than copied."""
+    """What the kernel knows of a tiling (``kernel/tiling.hpp``), asked for rather than copied.
+
+    Parameters
+    ----------
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    dict
+        ``sublattices`` (sites per lattice cell), ``corners`` per particle, ``coordination`` (edge
+        neighbours per site), ``bulk_bonds_per_particle``, ``neighbours`` (per sublattice, tuples
+        ``(di, dj, sublattice)`` in lattice coordinates), ``slot_offsets`` (corner positions from
+        the site centre, per sublattice), ``frames`` (rotation of each sublattice's particles) and
+        ``site_offsets``.
+
+    Raises
+    ------
+    ValueError
+        If ``tiling`` is not one of ``TILINGS``.
+
+    Examples
+    --------
+    >>> from pyfrustrate import topology
+    >>> facts = topology.tiling_facts("hexagon")
+    >>> facts["sublattices"], facts["coordination"], facts["bulk_bonds_per_particle"]
+    (1, 6, 3.0)
+    """
     if tiling not in TILINGS:
         raise ValueError(f"tiling must be one of {TILINGS}, got {tiling!r}")
     return _kernel.tiling(tiling)
 
 
 def site_columns(tiling: str = "hexagon") -> int:
-    """Columns of a site array: 2 (``i, j``) for the hexagon tiling, 3 (``i, j, sublattice``) for the triangle one."""
+    """Columns of a site array: 2 (``i, j``) on the hexagon tiling, 3 (``i, j, sublattice``) on the
+    triangle one.
+
+    Parameters
+    ----------
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    int
+    """
     return 3 if tiling_facts(tiling)["sublattices"] > 1 else 2
 
 
 def area_per_particle(tiling: str = "hexagon") -> float:
-    """Area of one site: ``sqrt(3)/2`` per cell, shared by the cell's sites."""
+    """Area of one site, in squared lattice spacings: ``sqrt(3)/2`` per cell, shared by its sites.
+
+    Parameters
+    ----------
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    float
+        ``sqrt(3)/2`` (hexagons) or ``sqrt(3)/4`` (triangles).
+    """
     return float(SQRT3 / 2 / tiling_facts(tiling)["sublattices"])
 
 
@@ -100,7 +158,37 @@ def _whole(name: str, value, lo: int) -> int:
 
 
 def fiber_axis(cut: int, tiling: str = "hexagon") -> tuple[int, int]:
-    """Lattice axis of a fibre cut (module docstring)."""
+    """Axis of a fibre cut, as a lattice vector (module docstring).
+
+    The axis is in **lattice coordinates** ``(i, j)``, i.e. ``i a1 + j a2`` with ``a1 = (1, 0)``
+    and ``a2 = (1/2, sqrt(3)/2)`` (60-degree axes), not in Cartesian ones: its length is
+    ``|i a1 + j a2|`` (``cell_positions``), e.g. ``sqrt(3)`` for cut 1, not ``sqrt(5)``.
+
+    Parameters
+    ----------
+    cut : {0, 1, 2}
+        The cut (module docstring).
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    tuple of int
+        ``(i, j)``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown cut or tiling.
+
+    Examples
+    --------
+    >>> from pyfrustrate import topology
+    >>> topology.fiber_axis(1)
+    (-1, 2)
+    >>> topology.cell_positions([topology.fiber_axis(1)]).round(4)  # Cartesian: the 90-degree axis
+    array([[0.    , 1.7321]])
+    """
     tiling_facts(tiling)  # an unknown tiling is refused, not given the triangle's axes
     axes = FIBER_AXES if tiling == "hexagon" else TRIANGLE_FIBER_AXES
     if cut not in axes:
@@ -109,13 +197,38 @@ def fiber_axis(cut: int, tiling: str = "hexagon") -> tuple[int, int]:
 
 
 def cell_positions(cells) -> np.ndarray:
-    """Cartesian positions of lattice cells ``(i, j)`` (any real coordinates), shape (n, 2)."""
+    """Cartesian positions of lattice cells.
+
+    Parameters
+    ----------
+    cells : array_like, shape (n, 2)
+        Lattice coordinates ``(i, j)`` (any real values), meaning ``i a1 + j a2`` with
+        ``a1 = (1, 0)``, ``a2 = (1/2, sqrt(3)/2)``.
+
+    Returns
+    -------
+    ndarray, shape (n, 2)
+        ``(x, y)`` in lattice spacings.
+    """
     s = np.asarray(cells, dtype=float).reshape(-1, 2)
     return np.column_stack([s[:, 0] + 0.5 * s[:, 1], 0.5 * SQRT3 * s[:, 1]])
 
 
 def site_positions(sites, tiling: str = "hexagon") -> np.ndarray:
-    """Cartesian centres of sites, shape (n, 2)."""
+    """Cartesian centres of sites.
+
+    Parameters
+    ----------
+    sites : array_like, shape (n, 2) or (n, 3)
+        Sites in lattice coordinates, ``(i, j)`` (hexagons) or ``(i, j, sublattice)`` (triangles).
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    ndarray, shape (n, 2)
+        ``(x, y)`` in lattice spacings.
+    """
     if tiling == "hexagon":
         return cell_positions(sites)
     sites = np.asarray(sites, dtype=np.int32).reshape(-1, site_columns(tiling))
@@ -123,7 +236,26 @@ def site_positions(sites, tiling: str = "hexagon") -> np.ndarray:
 
 
 def neighbour_sites(site, tiling: str = "hexagon") -> list[tuple]:
-    """The edge neighbours of one site, as tuples (the kernel's table)."""
+    """The edge neighbours of one site (the kernel's table).
+
+    Parameters
+    ----------
+    site : sequence of int
+        ``(i, j)`` or ``(i, j, sublattice)``, in lattice coordinates.
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    list of tuple
+        The neighbouring sites, in the same form.
+
+    Examples
+    --------
+    >>> from pyfrustrate import topology
+    >>> topology.neighbour_sites((0, 0))
+    [(1, 0), (0, 1), (-1, 1), (-1, 0), (0, -1), (1, -1)]
+    """
     site = tuple(int(v) for v in site)
     sub = site[2] if len(site) == 3 else 0
     out = []
@@ -136,23 +268,41 @@ def neighbour_sites(site, tiling: str = "hexagon") -> list[tuple]:
 class Topology:
     """An aggregate topology and its corner graph (built by the kernel).
 
-    Attributes
+    Built by ``cluster``, ``disk``, ``fiber``, ``bulk``, ``bulk_with_holes`` or ``periodic``
+    rather than directly. Immutable.
+
+    Parameters
     ----------
     kind : str
         ``'cluster'``, ``'disk'``, ``'fiber'``, ``'bulk'`` or ``'bulk_with_holes'``.
-    sites : ndarray, shape (n_particles, 2)
-        Occupied sites (one representative per particle of the cell).
-    periodicity : str
-        ``'none'``, ``'fiber'`` (one period vector) or ``'bulk'`` (two).
-    periods : ndarray, shape (2, 2)
-        Lattice period vectors (rows; unused rows are zero).
+    sites : array_like of int, shape (n_particles, 2) or (n_particles, 3)
+        Occupied sites in lattice coordinates (one representative per particle of a periodic cell).
+    periodicity : {'none', 'fiber', 'bulk'}
+        No period, one period vector or two.
+    periods : array_like of int, shape (2, 2)
+        Lattice period vectors (rows, in lattice coordinates; unused rows are zero).
     curved : bool
         Fibre images are rotated by a free angle, so the fibre may bend.
     size : float
-        Continuum size: ``W`` for a fibre, ``R`` for a disk (lattice units), ``inf`` for bulks,
-        ``nan`` for clusters.
+        Continuum size in lattice spacings: ``W`` for a fibre (area per unit length), ``R`` for a
+        disk (radius of the disk of equal area), ``inf`` for bulks, ``nan`` for clusters.
     label : str
         Short human-readable name.
+    tiling : {'hexagon', 'triangle'}
+        The tiling of the sites.
+
+    Attributes
+    ----------
+    kernel : pyfrustrate._kernel.Topology
+        The kernel's corner graph.
+    n_particles, n_bonds, n_corners : int
+        Particles, bound pairs of sides and distinct corners (per cell when periodic).
+
+    Raises
+    ------
+    ValueError
+        For an empty or malformed site array, sites off the lattice or beyond 1e6, duplicate
+        sites (the kernel), or a size too large for memory.
     """
 
     kind: str
@@ -174,6 +324,7 @@ class Topology:
             raise ValueError(f"sites must have shape (n, {columns}) for the {self.tiling} tiling, got {sites.shape}")
         if not np.all(np.isfinite(sites)) or not np.all(np.equal(np.mod(sites, 1), 0)):
             raise ValueError("sites must be integer lattice coordinates (i, j): a site is off the lattice")
+        affordable(f"a topology of {len(sites)} particles", len(sites) * TOPOLOGY_BYTES_PER_PARTICLE)
         sites = sites.astype(np.int64)
         if np.abs(sites).max() > 10**6:
             raise ValueError("sites: coordinates beyond 1e6 are not supported")
@@ -185,6 +336,7 @@ class Topology:
 
     @property
     def n_particles(self) -> int:
+        """Particles (per cell when periodic)."""
         return self.kernel.n_particles
 
     @property
@@ -194,10 +346,19 @@ class Topology:
 
     @property
     def n_corners(self) -> int:
+        """Distinct corners: the degrees of freedom are their ``2 n_corners`` coordinates."""
         return self.kernel.n_corners
 
     def reference_state(self) -> np.ndarray:
-        """Bulk-reference degrees of freedom: corners ``(x0, y0, x1, ...)`` then period parameters."""
+        """The bulk-reference degrees of freedom: corners at the rest positions of the lattice.
+
+        Returns
+        -------
+        ndarray, shape (2 n_corners + n_period_parameters,)
+            Corner coordinates ``(x0, y0, x1, y1, ...)`` in lattice spacings, then the period
+            parameters (fibre: the period vector ``tx, ty`` and, when curved, the bend angle's
+            parameter; bulk: the two period vectors ``t1x, t1y, t2x, t2y``).
+        """
         return np.asarray(self.kernel.reference_state())
 
 
@@ -216,13 +377,57 @@ def _site_array(sites, tiling: str) -> np.ndarray:
 
 
 def cluster(sites, label: str = "cluster", tiling: str = "hexagon") -> Topology:
-    """A finite aggregate: any set of distinct sites, shape (n, 2) (hexagons) or (n, 3) (triangles)."""
+    """A finite aggregate of any set of distinct sites.
+
+    Parameters
+    ----------
+    sites : array_like of int, shape (n, 2) or (n, 3)
+        Sites in lattice coordinates, ``(i, j)`` (hexagons) or ``(i, j, sublattice)`` (triangles).
+    label : str, optional
+        Short name.
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    Topology
+
+    Raises
+    ------
+    ValueError
+        For an empty or malformed site array.
+
+    Examples
+    --------
+    >>> from pyfrustrate import topology
+    >>> t = topology.cluster([[0, 0], [1, 0], [0, 1]])  # three mutually bound hexagons
+    >>> t.n_particles, t.n_bonds
+    (3, 3)
+    """
     tiling_facts(tiling)
     return Topology("cluster", _site_array(sites, tiling), label=label, tiling=tiling)
 
 
 def hexagon_sites(R: int) -> np.ndarray:
-    """Sites within hexagonal distance ``R`` of the origin: ``1 + 3 R (R + 1)`` of them."""
+    """Sites within hexagonal distance ``R`` of the origin.
+
+    Parameters
+    ----------
+    R : int
+        Radius in lattice steps, ``>= 0``.
+
+    Returns
+    -------
+    ndarray of int, shape (1 + 3 R (R + 1), 2)
+        Lattice coordinates ``(i, j)``.
+
+    Raises
+    ------
+    ValueError
+        If ``R`` is not a non-negative integer, or too large for memory.
+    """
+    R = _whole("R", R, 0)
+    affordable(f"hexagon_sites(R={R})", (2 * R + 1) ** 2 * GRID_BYTES_PER_CELL["hexagon_sites"])
     r = np.arange(-R, R + 1)
     i, j = np.meshgrid(r, r, indexing="ij")
     keep = np.abs(i + j) <= R
@@ -230,8 +435,26 @@ def hexagon_sites(R: int) -> np.ndarray:
 
 
 def triangle_hexagon_sites(R: int) -> np.ndarray:
-    """Triangles inside the hexagon of side ``R`` around the vertex (0, 0): ``6 R^2`` of them,
-    those whose three vertices lie within hexagonal distance ``R`` of it."""
+    """Triangles inside the hexagon of side ``R`` around the vertex (0, 0): those whose three
+    vertices lie within hexagonal distance ``R`` of it.
+
+    Parameters
+    ----------
+    R : int
+        Side in lattice steps, ``>= 0``.
+
+    Returns
+    -------
+    ndarray of int, shape (6 R^2, 3)
+        Sites ``(i, j, sublattice)``.
+
+    Raises
+    ------
+    ValueError
+        If ``R`` is not a non-negative integer, or too large for memory.
+    """
+    R = _whole("R", R, 0)
+    affordable(f"triangle_hexagon_sites(R={R})", (2 * R + 2) ** 2 * GRID_BYTES_PER_CELL["triangle_hexagon_sites"])
     r = np.arange(-R - 1, R + 1)
     i, j = (a.ravel() for a in np.meshgrid(r, r, indexing="ij"))
 
@@ -245,10 +468,46 @@ def triangle_hexagon_sites(R: int) -> np.ndarray:
 
 
 def disk(R: int, tiling: str = "hexagon") -> Topology:
-    """Compact aggregate of 'radius' ``R`` (``R = 0`` is a single particle): the hexagon of radius
-    ``R`` around a site (hexagons) or of side ``R`` around a vertex (triangles)."""
+    """Compact aggregate of radius ``R``: the hexagon of radius ``R`` around a site (hexagon tiling,
+    ``1 + 3 R (R + 1)`` particles) or of side ``R`` around a vertex (triangle tiling, ``6 R^2``).
+
+    Parameters
+    ----------
+    R : int
+        Radius in lattice steps; ``R = 0`` is a single particle.
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    Topology
+        ``size`` is the continuum radius, that of the disk of equal area,
+        ``sqrt(N * area_per_particle / pi)`` in lattice spacings. To compare with the continuum
+        theory divide it by the particle's ``ell``: ``continuum.disk_energy(size / ell, ...)``.
+
+    Raises
+    ------
+    ValueError
+        If ``R`` is not a non-negative integer, or the disk is too large for memory (the message
+        says how much it would need).
+
+    Examples
+    --------
+    >>> from pyfrustrate import topology
+    >>> d = topology.disk(2)
+    >>> d.n_particles, d.n_bonds, round(d.size, 4)
+    (19, 42, 2.2886)
+    >>> topology.disk(1, tiling="triangle").n_particles
+    6
+    """
     R = _whole("R", R, 0)
-    if tiling_facts(tiling)["sublattices"] == 1:
+    facts = tiling_facts(tiling)
+    if facts["sublattices"] == 1:
+        n_particles, grid = 1 + 3 * R * (R + 1), (2 * R + 1) ** 2 * GRID_BYTES_PER_CELL["hexagon_sites"]
+    else:
+        n_particles, grid = max(1, 6 * R * R), (2 * R + 2) ** 2 * GRID_BYTES_PER_CELL["triangle_hexagon_sites"]
+    affordable(f"disk(R={R})", grid + n_particles * TOPOLOGY_BYTES_PER_PARTICLE)
+    if facts["sublattices"] == 1:
         sites = hexagon_sites(int(R))
     else:
         sites = triangle_hexagon_sites(int(R)) if R > 0 else np.array([[0, 0, 0]])
@@ -257,10 +516,11 @@ def disk(R: int, tiling: str = "hexagon") -> Topology:
 
 
 def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.ndarray:
-    """The ``n`` sites nearest to a segment of length ``segment`` centred on the origin along
-    ``a1``: a near-circular aggregate for ``segment = 0``, a rounded strip (a finite cut-0 fibre)
-    of width about ``n sqrt(3) / (2 segment)`` for long segments. Ties in distance are broken
-    by the distance to the origin, then by the angle, so the shape is unique and deterministic.
+    """The ``n`` sites nearest to a segment of length ``segment`` centred on the origin along ``a1``.
+
+    A near-circular aggregate for ``segment = 0``, a rounded strip (a finite cut-0 fibre) of width
+    about ``n sqrt(3) / (2 segment)`` for long segments. Ties in distance are broken by the
+    distance to the origin, then by the angle, so the shape is unique and deterministic.
 
     ``faceted``: nearest in the lattice's own (hexagonal) distance instead of the Euclidean one,
     so the shape is bounded by close-packed rows: a hexagon for ``segment = 0``, a strip with
@@ -271,11 +531,39 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.nda
     of 200 particles has two bonds fewer: at strong binding the faceted shapes win.
 
     Finite-size predictions use both one-parameter families of single aggregates of exactly
-    ``n`` particles (``ansatz.finite_aggregates``)."""
+    ``n`` particles (``ansatz.finite_aggregates``).
+
+    Parameters
+    ----------
+    n : int
+        Number of sites, ``>= 1``.
+    segment : float, optional
+        Length of the core segment, in lattice spacings, ``>= 0``.
+    faceted : bool, optional
+        Hexagonal rather than Euclidean distance.
+
+    Returns
+    -------
+    ndarray of int, shape (n, 2)
+        Hexagon-tiling sites ``(i, j)``.
+
+    Raises
+    ------
+    ValueError
+        For a bad ``n`` or ``segment``, or a request too large for memory.
+
+    Examples
+    --------
+    >>> from pyfrustrate import topology
+    >>> sites = topology.stadium_sites(7, faceted=True)  # a particle and its ring
+    >>> len(sites), topology.cluster(sites).n_bonds == topology.most_bonds(7)
+    (7, True)
+    """
     n = integer("n", n, 1)
     segment = non_negative("segment", segment)
     # Enough rows and columns to hold n sites around the segment.
     half = int(np.ceil(segment / 2 + np.sqrt(n))) + 2
+    affordable(f"stadium_sites(n={n}, segment={segment:g})", (4 * half + 1) ** 2 * GRID_BYTES_PER_CELL["stadium_sites"])
     r = np.arange(-2 * half, 2 * half + 1)
     i, j = np.meshgrid(r, r, indexing="ij")
     sites = np.column_stack([i.ravel(), j.ravel()])
@@ -296,22 +584,54 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False) -> np.nda
 
 def most_bonds(n: int) -> int:
     """The most nearest-neighbour pairs ``n`` sites of the triangular lattice can share,
-    ``3 n - ceil(sqrt(12 n - 3))`` (Harary and Harborth, 1976), in integer arithmetic."""
+    ``3 n - ceil(sqrt(12 n - 3))`` (Harary and Harborth, 1976), in integer arithmetic.
+
+    Parameters
+    ----------
+    n : int
+        Number of sites, ``>= 1``.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> from pyfrustrate import topology
+    >>> topology.most_bonds(7), topology.most_bonds(200)
+    (12, 551)
+    """
     n = integer("n", n, 1)
     root = isqrt(12 * n - 3)
     return 3 * n - (root if root * root == 12 * n - 3 else root + 1)
 
 
 def complete_hexagon_sides(n: int) -> tuple[int, int, int] | None:
-    """Sides ``(a, b, c)``, in sites and differing by at most one, of the complete hexagon of
-    ``n`` sites (sides a, b, c, a, b, c around it; ``n = ab + bc + ca - a - b - c + 1``), or None
-    when ``n`` is not such a number: 3k^2 - 3k + 1, 3k^2 - k, 3k^2 + k (200 = sides 8, 9, 9).
+    """Sides of the complete hexagon of ``n`` sites, or None when ``n`` is no such number.
 
-    One more site adds at most two bonds to ``most_bonds`` at these ``n`` (they are the largest
-    with their minimal perimeter), and the complete hexagon is the only outline, up to the
-    lattice's rotations and reflections, that holds ``most_bonds(n)`` bonds (tests/test_topology.py
-    enumerates every shape of 7 and 10 sites); outlines with one bond fewer are many. A Monte
-    Carlo run whose ground state is this hexagon must find that one shape."""
+    The sides ``(a, b, c)``, in sites and differing by at most one, run a, b, c, a, b, c around
+    the hexagon, ``n = ab + bc + ca - a - b - c + 1``: ``n`` is one of 3k^2 - 3k + 1, 3k^2 - k,
+    3k^2 + k (200 = sides 8, 9, 9). One more site adds at most two bonds to ``most_bonds`` at these
+    ``n`` (they are the largest with their minimal perimeter), and the complete hexagon is the only
+    outline, up to the lattice's rotations and reflections, that holds ``most_bonds(n)`` bonds
+    (tests/test_topology.py enumerates every shape of 7 and 10 sites); outlines with one bond fewer
+    are many. A Monte Carlo run whose ground state is this hexagon must find that one shape.
+
+    Parameters
+    ----------
+    n : int
+        Number of sites, ``>= 1``.
+
+    Returns
+    -------
+    tuple of int or None
+
+    Examples
+    --------
+    >>> from pyfrustrate import topology
+    >>> topology.complete_hexagon_sides(200), topology.complete_hexagon_sides(8)
+    ((8, 9, 9), None)
+    """
     n = integer("n", n, 1)
     k = max(1, round(np.sqrt(n / 3)))
     for a in (k - 1, k, k + 1):
@@ -322,10 +642,26 @@ def complete_hexagon_sides(n: int) -> tuple[int, int, int] | None:
 
 
 def gyration_dimensions(sites, tiling: str = "hexagon") -> tuple[float, float]:
-    """Width and length of an aggregate from its gyration tensor: ``sqrt(12 lambda)`` for its two
-    eigenvalues, which are exactly the sides of a uniform rectangle (a compact disk of radius
-    ``R`` gives ``sqrt(3) R`` both ways). Orientation-free, so it measures Monte Carlo
-    aggregates and pre-made ones alike."""
+    """Width and length of an aggregate from its gyration tensor.
+
+    ``sqrt(12 lambda)`` for its two eigenvalues, which are exactly the sides of a uniform
+    rectangle (a compact disk of radius ``R`` gives ``sqrt(3) R`` both ways). Orientation-free, so
+    it measures Monte Carlo aggregates and pre-made ones alike.
+
+    Parameters
+    ----------
+    sites : array_like of int, shape (n, 2) or (n, 3)
+        The aggregate's sites, in lattice coordinates.
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    width : float
+        The smaller side, in lattice spacings (0 for a single site).
+    length : float
+        The larger side, in lattice spacings (0 for a single site).
+    """
     xy = site_positions(sites, tiling)
     if len(xy) < 2:
         return 0.0, 0.0
@@ -381,9 +717,23 @@ def _triangle_fiber_sites(width: int, cut: int) -> np.ndarray:
 
 
 def min_fiber_width(cut: int, tiling: str = "hexagon") -> int:
-    """Narrowest connected fibre of a cut. Hexagons: 1 for cut 0, 2 for cut 1 (a single
-    zig-zag column has its particles sqrt(3) apart), 3 for cut 2. Triangles: 1, 1, 2 (a single
-    column of triangles touches only at corners)."""
+    """Narrowest connected fibre of a cut, in lattice lines.
+
+    Hexagons: 1 for cut 0, 2 for cut 1 (a single zig-zag column has its particles sqrt(3)
+    apart), 3 for cut 2. Triangles: 1, 1, 2 (a single column of triangles touches only at
+    corners).
+
+    Parameters
+    ----------
+    cut : {0, 1, 2}
+        The cut (module docstring).
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    int
+    """
     width = 1
     while not _strip_is_connected(_fiber_cell(width, cut, tiling), fiber_axis(cut, tiling), tiling):
         width += 1
@@ -399,14 +749,50 @@ def _fiber_cell(width: int, cut: int, tiling: str) -> np.ndarray:
 def fiber(width: int, cut: int = 0, curved: bool = True, tiling: str = "hexagon") -> Topology:
     """Infinite straight-cut fibre, as one periodic cell of ``width`` lattice lines.
 
-    ``cut`` selects the axis and edges (module docstring). With ``curved=True`` (default)
-    successive images are related by a rigid motion with a free angle, so an asymmetric fibre
-    takes the constant curvature it prefers; ``curved=False`` keeps it straight (its length still
-    relaxes).
+    ``width`` counts **lattice lines** parallel to the axis (the particles per period on the
+    hexagon tiling), not a length: the continuum width is the area per unit length,
+    ``W = width * sqrt(3)/2 / |axis|`` in lattice spacings for hexagons (``width * sqrt(3)/2``
+    for cut 0, ``width / 2`` for cut 1), returned as ``size``. Compare with the continuum theory
+    through ``size / ell``, never ``width / ell``.
+
+    Parameters
+    ----------
+    width : int
+        Lattice lines per period, at least ``min_fiber_width(cut, tiling)``.
+    cut : {0, 1, 2}, optional
+        Axis and edges (module docstring): 0 flat rows, 1 zig-zag, 2 stepped.
+    curved : bool, optional
+        True (default): successive images are related by a rigid motion with a free angle, so an
+        asymmetric fibre takes the constant curvature it prefers. False keeps it straight (its
+        length still relaxes).
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    Topology
+        ``periods[0]`` is the axis (lattice coordinates), ``size`` the continuum width ``W``.
+
+    Raises
+    ------
+    ValueError
+        For a bad cut, a width that is not a positive integer or too narrow for the cut to hold
+        together, or a width too large for memory.
+
+    Examples
+    --------
+    >>> from pyfrustrate import topology
+    >>> f = topology.fiber(4)
+    >>> f.n_particles, f.n_bonds, round(f.size, 4)  # W = 4 sqrt(3)/2
+    (4, 10, 3.4641)
+    >>> round(topology.fiber(4, cut=1).size, 4)  # the zig-zag axis has length sqrt(3)
+    2.0
     """
     tiling_facts(tiling)
     axis = fiber_axis(cut, tiling)
     width = _whole("width", width, 1)
+    grid = (4 * width + 9) ** 2 * GRID_BYTES_PER_CELL["triangle_fiber"] if tiling == "triangle" and cut == 2 else 0
+    affordable(f"fiber(width={width})", grid + 2 * width * FIBER_BYTES_PER_PARTICLE)
     sites = _fiber_cell(int(width), cut, tiling)
     if not _strip_is_connected(sites, axis, tiling):
         raise ValueError(f"width {width} is too narrow for cut {cut}: the strip falls apart "
@@ -418,7 +804,24 @@ def fiber(width: int, cut: int = 0, curved: bool = True, tiling: str = "hexagon"
 
 
 def bulk(tiling: str = "hexagon") -> Topology:
-    """The infinite bulk, as a one-cell periodic cell (one hexagon, or an up and a down triangle)."""
+    """The infinite bulk, as a one-cell periodic cell (one hexagon, or an up and a down triangle).
+
+    Parameters
+    ----------
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    Topology
+
+    Examples
+    --------
+    >>> from pyfrustrate import topology
+    >>> b = topology.bulk()
+    >>> b.n_particles, b.n_bonds, b.size
+    (1, 3, inf)
+    """
     sites = [[0, 0]] if site_columns(tiling) == 2 else [[0, 0, 0], [0, 0, 1]]
     return Topology("bulk", np.array(sites), "bulk", np.array([(1, 0), (0, 1)]), size=float("inf"), label="bulk",
                     tiling=tiling)
@@ -464,13 +867,48 @@ TRIANGLE_HOLE_PATTERNS = {
 
 
 def hole_patterns(tiling: str = "hexagon") -> dict:
-    """The hole patterns of a tiling (``HOLE_PATTERNS`` or ``TRIANGLE_HOLE_PATTERNS``)."""
+    """The hole patterns of a tiling.
+
+    Parameters
+    ----------
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    dict
+        ``HOLE_PATTERNS`` or ``TRIANGLE_HOLE_PATTERNS``: name to ``(periods, sites of the cell)``.
+    """
     tiling_facts(tiling)
     return HOLE_PATTERNS if tiling == "hexagon" else TRIANGLE_HOLE_PATTERNS
 
 
 def bulk_with_holes(pattern: str = "honeycomb", tiling: str = "hexagon") -> Topology:
-    """A periodic bulk with a regular pattern of holes (``hole_patterns(tiling)``)."""
+    """A periodic bulk with a regular pattern of holes.
+
+    Parameters
+    ----------
+    pattern : str, optional
+        A name of ``hole_patterns(tiling)`` (hexagons: ``'honeycomb'``, ``'kagome'``, ``'sqrt7'``).
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    Topology
+
+    Raises
+    ------
+    ValueError
+        For an unknown pattern or tiling.
+
+    Examples
+    --------
+    >>> from pyfrustrate import topology
+    >>> h = topology.bulk_with_holes("honeycomb")
+    >>> h.n_particles, h.n_bonds  # one site in three removed: no corner shared by three
+    (2, 3)
+    """
     patterns = hole_patterns(tiling)
     if pattern not in patterns:
         raise ValueError(f"pattern must be one of {sorted(patterns)} for the {tiling} tiling, got {pattern!r}")
@@ -480,6 +918,22 @@ def bulk_with_holes(pattern: str = "honeycomb", tiling: str = "hexagon") -> Topo
 
 
 def periodic(sites, periods, label: str = "periodic", tiling: str = "hexagon") -> Topology:
-    """Any periodic bulk cell: ``sites`` of the cell spanned by the two lattice ``periods``."""
+    """Any periodic bulk cell.
+
+    Parameters
+    ----------
+    sites : array_like of int, shape (n, 2) or (n, 3)
+        Sites of the cell, in lattice coordinates.
+    periods : array_like of int, shape (2, 2)
+        The two lattice period vectors (rows, lattice coordinates).
+    label : str, optional
+        Short name.
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling (default ``'hexagon'``, the paper's particle).
+
+    Returns
+    -------
+    Topology
+    """
     sites = np.asarray(sites).reshape(-1, site_columns(tiling))
     return Topology("bulk_with_holes", sites, "bulk", periods, size=float("inf"), label=label, tiling=tiling)

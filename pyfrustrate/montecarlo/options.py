@@ -17,7 +17,7 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-from .. import continuum
+from .. import _checks, continuum
 from .._checks import integer, non_negative, probability
 from ..relaxation import AUTO_METHOD, METHODS
 from ..topology import tiling_facts
@@ -33,11 +33,9 @@ DEFAULTS_MEASURED = "README.md (paper profile's Monte Carlo diagram), config/pap
 
 
 def check_particle(particle):
-    """The particle's kernel model, or ``TypeError`` when ``particle`` is not a particle model."""
-    model = getattr(particle, "_kernel_model", None)
-    if model is None or not hasattr(particle, "tiling"):
-        raise TypeError(f"particle must be a particle model (Hexagon, RandomHexagon, Triangle), got {particle!r}")
-    return model
+    """The particle's kernel model, or ``TypeError`` when ``particle`` is not a particle model
+    (``_checks.particle``, the check every entry point shares)."""
+    return _checks.particle("particle", particle)._kernel_model
 
 
 def binding(particle, *, Gamma=None, g=None, convention="measured") -> float:

@@ -75,24 +75,27 @@ rule ansatz_shapes:
         "../scripts/ansatz_shapes.py"
 
 
-rule fig3b_ansatz:
+rule fig3_phase_diagrams:
     input:
         diagram=f"results/ansatz/diagram_ell{ANSATZ['fig3b_ell']:g}.npz",
         continuum=rules.continuum_phase_diagram.output,
         snapshots=mc_snapshot_files(),
+        finite=fig3_finite_files(),
     params:
         # (particles, box) of the dense runs (the disk scan), to mark them apart from the sparse ones.
         dense=(MC["dense_n"], MC["dense_box"]),
+        # Anneal length of each box kind, written on its snapshots.
+        sweeps=dict(sparse=MC["sweeps"], dense=MC["dense_sweeps"]),
         convention="measured",
     output:
-        pdf=f"{FIGURES}/fig3b_ansatz.pdf",
-        png=figure_png("fig3b_ansatz"),
+        pdf=f"{FIGURES}/fig3_phase_diagrams.pdf",
+        png=figure_png("fig3_phase_diagrams"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:
-        "results/logs/fig3b_ansatz.log",
+        "results/logs/fig3_phase_diagrams.log",
     script:
-        "../../figures/fig3b_ansatz.py"
+        "../../figures/fig3_phase_diagrams.py"
 
 
 # Fig. 3b's Monte Carlo runs with Gamma read in the supplement's convention (gamma = 4 g/sqrt(3)),
@@ -102,8 +105,10 @@ rule figX_fig3b_supplement_convention:
         diagram=f"results/ansatz/diagram_ell{ANSATZ['fig3b_ell']:g}.npz",
         continuum=rules.continuum_phase_diagram.output,
         snapshots=mc_snapshot_files("supplement"),
+        finite=fig3_finite_files(),
     params:
         dense=(MC["dense_n"], MC["dense_box"]),
+        sweeps=dict(sparse=MC["sweeps"], dense=MC["dense_sweeps"]),
         convention="supplement",
     output:
         pdf=f"{FIGURES}/figX_fig3b_supplement_convention.pdf",
@@ -113,7 +118,7 @@ rule figX_fig3b_supplement_convention:
     log:
         "results/logs/figX_fig3b_supplement_convention.log",
     script:
-        "../../figures/fig3b_ansatz.py"
+        "../../figures/fig3_phase_diagrams.py"
 
 
 rule figS1_ansatz:

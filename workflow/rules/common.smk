@@ -95,6 +95,14 @@ def mc_scale_files():
     return sorted({mc_run_file(nu, G, seed, "large") for _, nu, G in mc_scale_points() for seed in MC["large_seeds"]})
 
 
+def fig3_finite_files():
+    """The finite-size prediction of each Monte Carlo run of Fig. 3 (the best single aggregate of
+    its number of particles at its nu), against which its snapshot states its final energy."""
+    sparse_nus = {MC["fiber_scan_nu"], *MC["nu_scan_nu"], MC["extra_seed_point"][1]}
+    return sorted({finite_aggregate_file(MC["n"], nu) for nu in sparse_nus}
+                  | {finite_aggregate_file(MC["dense_n"], MC["disk_scan_nu"])})
+
+
 def finite_aggregate_files():
     """The finite-size predictions figX_mc_finite_size compares its runs with."""
     nus = {MC["fiber_scan_nu"], *MC["large_nu_scan_nu"]}

@@ -1,0 +1,79 @@
+"""Goals (b) and (c) of issue 32: Monte Carlo annealings with exact (Newton, tol 1e-3) cluster
+energies and the workflow's moves (cluster_moves 0.05, cluster_link 0.9), seed 1:
+
+(b) dense box: 300 hexagons in 30 x 30, ell = 5, nu = 0.4, Gamma = 0.5, 10^4 sweeps, goal 2 min
+    of CPU;
+(c) sparse box: 200 in 60 x 60, 10^4 sweeps, goal 10 s, at (nu, Gamma) = (0.4, 0.1), the
+    slowest case measured, and (0.9, 0.5).
+
+Each run is made twice in the same process, alternately: with the Monte Carlo's warm starts from
+the parent clusters (``warm_start=True``, anneal's default) and cold (``warm_start=False``, each
+cluster from the linear solution), so that the table carries its own baseline. Times are process
+CPU. Per run: sweeps, CPU seconds, seconds per 10^4 sweeps (measured, or scaled linearly when
+``--sweeps`` is below 10^4, which the table says), the goal and the ratio to it, relaxations,
+factorisations and milliseconds per relaxation, and the final energy.
+
+Usage: ``python benchmarks/bench_mc_goals.py [--dense-sweeps 10000] [--sparse-sweeps 10000]
+[--csv benchmarks/results/mc_goals.csv] [--quick]``
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import _common  # noqa: E402  (pins BLAS threads before numpy is imported)
+
+pyfrustrate = _common.import_pyfrustrate()
+from pyfrustrate import Hexagon, continuum  # noqa: E402
+
+from bench_montecarlo import ELL, EPS, WORKFLOW_MOVES, exact_annealing  # noqa: E402
+
+# name: (n, box, nu, Gamma, goal in CPU seconds per 10^4 sweeps)
+RUNS = {
+    "b dense": (300, 30, 0.4, 0.5, 120.0),
+    "c sparse nu=0.4 Gamma=0.1": (200, 60, 0.4, 0.1, 10.0),
+    "c sparse nu=0.9 Gamma=0.5": (200, 60, 0.9, 0.5, 10.0),
+}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--dense-sweeps", type=int, default=10_000)
+    ap.add_argument("--sparse-sweeps", type=int, default=10_000)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--only", choices=sorted(RUNS), nargs="+", default=sorted(RUNS))
+    ap.add_argument("--csv", type=Path, default=None)
+    ap.add_argument("--quick", action="store_true", help="20 sweeps each")
+    args = ap.parse_args(argv)
+    print(f"{_common.machine_line()}\n{_common.source_line()}")
+    print(f"Exact (Newton) cluster energies at tol 1e-3, moves {WORKFLOW_MOVES}, seed {args.seed}; process CPU")
+    rows = []
+    for name in args.only:
+        n, box, nu, Gamma, goal = RUNS[name]
+        sweeps = 20 if args.quick else (args.dense_sweeps if name.startswith("b") else args.sparse_sweeps)
+        particle = Hexagon.from_continuum(ell=ELL, nu=nu, eps=EPS)
+        g = float(continuum.particle_parameters(ELL, nu, Gamma, eps=EPS).g)
+        for warm in (True, False):
+            cpu, r = exact_annealing(particle, g, box, n, sweeps, args.seed, warm_start=warm, **WORKFLOW_MOVES)
+            c = r.counters
+            m = max(1, c["minimisations"])
+            per = cpu * 10_000 / sweeps
+            rows.append({
+                "run": name, "start": "warm" if warm else "cold", "n": n, "box": box, "nu": nu, "Gamma": Gamma,
+                "sweeps": sweeps, "cpu_s": cpu, "cpu_s_per_1e4_sweeps": per,
+                "scaled": sweeps != 10_000, "goal_s": goal, "over_goal": per / goal,
+                "relaxations": c["minimisations"], "factorizations_per_relaxation": c["factorizations"] / m,
+                "ms_per_relaxation": 1e3 * cpu / m, "warm_restarts": c["warm_restarts"], "energy": r.energy,
+            })
+            print(f"  {name:28s} {rows[-1]['start']}: {cpu:7.1f} s for {sweeps} sweeps -> {per:7.1f} s per 10^4"
+                  f"{' (scaled)' if sweeps != 10_000 else ''}, {per / goal:5.2f} x the {goal:g} s goal; "
+                  f"{c['minimisations']:,} relaxations, {c['factorizations'] / m:.2f} factorisations and "
+                  f"{1e3 * cpu / m:.2f} ms each", flush=True)
+    if args.csv:
+        _common.write_csv(args.csv, rows, {"benchmark": "bench_mc_goals", "seed": args.seed})
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,219 @@
+"""The figure check (plotting.check_figure): what a machine can check of a figure at print size.
+
+1. The checker itself, on figures made to pass and made to fail each check (page size, type size,
+   overlapping text, text off the page, an empty axes).
+2. Figures drawn from scratch by their own scripts on small inputs computed here by the
+   workflow's own scripts (Fig. 1: the chain; Fig. S4, which needs none; the continuum diagram,
+   panel (a) of Fig. 3), as Snakemake runs them: a ``snakemake`` object with the rule's input,
+   output, params and log.
+3. Every figure of a workflow build found in ``results/figures/`` (``bash scripts/figures.sh``):
+   its page size from the PNG, and the findings ``plotting.save`` stored in it when it drew the
+   figure. Skipped on a clone that has not built the figures.
+"""
+from __future__ import annotations
+
+import json
+import runpy
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+matplotlib = pytest.importorskip("matplotlib")
+
+from pyfrustrate import plotting  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+BUILT = sorted((ROOT / "results" / "figures").glob("*.png"))
+
+
+def _figure(width_cm=plotting.COLUMN_WIDTH_CM, height_cm=6.0):
+    fig = plotting.figure(width_cm, height_cm)
+    ax = fig.add_axes([0.2, 0.2, 0.7, 0.65])
+    ax.plot([0, 1], [0, 1])
+    ax.set_xlabel(plotting.LABELS["Gamma"])
+    ax.set_ylabel(plotting.LABELS["nu"])
+    plotting.panel_label(ax, "a")
+    return fig, ax
+
+
+def test_checker_passes_a_good_figure():
+    fig, _ = _figure()
+    assert plotting.check_figure(fig) == []
+
+
+def test_checker_finds_a_page_too_wide():
+    fig, _ = _figure()
+    fig.set_size_inches(24.9 / 2.54, 6.0 / 2.54)  # Fig. S6 as it was
+    assert any("wider" in p for p in plotting.check_figure(fig))
+
+
+def test_checker_finds_small_type():
+    fig, ax = _figure()
+    ax.tick_params(labelsize=4.5)
+    ax.text(0.5, 0.5, "note", fontsize=5, transform=ax.transAxes)
+    problems = plotting.check_figure(fig)
+    assert any("under 7 pt" in p for p in problems)  # tick labels
+    assert any("'note' at 5 pt, under 6 pt" in p for p in problems)
+
+
+def test_checker_finds_overlapping_text():
+    fig, ax = _figure()
+    ax.text(0.3, 0.5, "first label", transform=ax.transAxes)
+    ax.text(0.35, 0.5, "second label", transform=ax.transAxes)
+    assert any("overlap" in p and "first label" in p for p in plotting.check_figure(fig))
+
+
+def test_checker_finds_text_off_the_page():
+    fig, ax = _figure()
+    ax.text(1.1, 0.5, "a long note beyond the right edge", transform=ax.transAxes)
+    assert any("leaves the page" in p for p in plotting.check_figure(fig))
+
+
+def test_checker_finds_an_empty_axes():
+    fig, _ = _figure()
+    fig.add_axes([0.6, 0.6, 0.2, 0.2])
+    assert any("empty axes" in p for p in plotting.check_figure(fig))
+
+
+def test_figure_refuses_a_width_between_columns():
+    with pytest.raises(ValueError, match="width_cm"):
+        plotting.figure(12.0, 9.0)
+    with pytest.raises(ValueError, match="height_cm"):
+        plotting.figure(plotting.PAGE_WIDTH_CM, 24.0)
+
+
+class _Named(list):
+    """A Snakemake name list: positional items, some also by name."""
+
+    def __init__(self, items=(), **named):
+        super().__init__(list(items) + list(named.values()))
+        self.__dict__.update(named)
+
+
+class _Params(dict):
+    """Snakemake params or wildcards: by key and by attribute."""
+
+    __getattr__ = dict.__getitem__
+
+
+class _Job:
+    """The ``snakemake`` object a rule's script sees."""
+
+    def __init__(self, rule, inputs, outputs, log, params):
+        self.rule, self.input, self.output, self.log = rule, inputs, outputs, _Named([str(log)])
+        self.params, self.wildcards = _Params(params), _Params()
+
+
+def _run(script: str, rule: str, tmp_path: Path, inputs: _Named, outputs: _Named, params=None):
+    job = _Job(rule, inputs, outputs, tmp_path / f"{rule}.log", params or {})
+    runpy.run_path(str(ROOT / script), init_globals={"snakemake": job}, run_name="__snakemake__")
+
+
+def _drawn(tmp_path, name, script, inputs):
+    """Draw ``script`` on ``inputs``; return the findings stored in its PNG and its page size (cm)."""
+    png, pdf = tmp_path / f"{name}.png", tmp_path / f"{name}.pdf"
+    _run(script, name, tmp_path, inputs, _Named(pdf=str(pdf), png=str(png)))
+    return _stored_check(png)
+
+
+def _stored_check(png: Path):
+    from PIL import Image
+
+    with Image.open(png) as image:
+        assert plotting.CHECK_KEY in image.text, f"{png.name} was drawn without the figure check: rebuild it"
+        problems = json.loads(image.text[plotting.CHECK_KEY])
+        dpi = image.info.get("dpi", (matplotlib.rcParams["savefig.dpi"],) * 2)[0]
+        size_cm = tuple(n / dpi * 2.54 for n in image.size)
+    return problems, size_cm
+
+
+def _assert_print_size(size_cm):
+    width, height = size_cm
+    assert min(abs(width - plotting.COLUMN_WIDTH_CM), abs(width - plotting.PAGE_WIDTH_CM)) < 0.05, size_cm
+    assert height <= plotting.MAX_HEIGHT_CM + 0.05, size_cm
+
+
+def test_fig1_drawn_from_scratch(tmp_path):
+    data = tmp_path / "profiles.npz"
+    params = dict(n=40, k=1.0, eps=0.01, profile_kc_over_k=[0.5, 0.05, 0.005], drawing_kc_over_k=0.1,
+                  drawing_n=12, drawing_eps=0.12, scan_kc_over_k_min=1e-3, scan_kc_over_k_max=1.0, scan_count=5)
+    _run("workflow/scripts/chain_profiles.py", "chain_profiles", tmp_path, _Named([str(data)]), _Named([str(data)]),
+         params)
+    problems, size_cm = _drawn(tmp_path, "fig1_chain", "figures/fig1_chain.py", _Named([str(data)]))
+    assert problems == []
+    _assert_print_size(size_cm)
+
+
+def test_figS4_drawn_from_scratch(tmp_path):
+    """Fig. S4 computes its own inputs (the pseudo-moduli of a simple particle)."""
+    problems, size_cm = _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", _Named())
+    assert problems == []
+    _assert_print_size(size_cm)
+
+
+def test_continuum_diagram_drawn_from_scratch(tmp_path):
+    """Fig. 3a's panel, at its size in Fig. 3, on a coarse continuum diagram computed here."""
+    data = tmp_path / "phase_diagram.npz"
+    params = dict(nu_count=41, Gamma_max=1.6, Gamma_count=65)
+    _run("workflow/scripts/continuum_phase_diagram.py", "continuum_phase_diagram", tmp_path, _Named(),
+         _Named([str(data)]), params)
+    from pyfrustrate.io import load_npz
+
+    fig = plotting.figure(plotting.COLUMN_WIDTH_CM, 7.0)
+    ax = fig.add_axes([1.1 / 8.6, 1.0 / 7.0, 5.0 / 8.6, 5.0 / 7.0])
+    images = plotting.draw_continuum_diagram(ax, load_npz(data))
+    plotting.size_colorbars(fig, images, (6.3, 1.0, 4.5), gap_cm=1.2)
+    plotting.panel_label(ax, "a")
+    assert plotting.check_figure(fig) == []
+
+
+@pytest.mark.skipif(not BUILT, reason="no built figures in results/figures (bash scripts/figures.sh)")
+@pytest.mark.parametrize("png", BUILT, ids=[p.stem for p in BUILT])
+def test_built_figure(png):
+    problems, size_cm = _stored_check(png)
+    _assert_print_size(size_cm)
+    assert problems == []
+
+
+def test_classifier_calls_two_fused_disks_a_fibre():
+    """figX_mc_diagram colours each run by montecarlo.classify_aggregate, which calls a finite
+    aggregate a fibre when its gyration anisotropy exceeds ELONGATION_THRESHOLD. Two compact
+    disks fused along a side pass that threshold (two touching circles of radius r: principal
+    variances 5 r^2/4 and r^2/4, anisotropy sqrt(5) = 2.24), so a run that ends in two merged,
+    not yet rounded disks is drawn as a fibre: the marker reads the shape, not the phase."""
+    from pyfrustrate import topology
+    from pyfrustrate.montecarlo import ELONGATION_THRESHOLD, classify_aggregate
+
+    box, radius = 40, 3
+    disk = topology.hexagon_sites(radius)
+    width = np.ptp(disk[:, 0]) + 1
+    fused = np.unique(np.vstack([disk + 10, disk + (10 + width, 10)]), axis=0)
+    assert classify_aggregate(disk + 10, box)[0] == "disk"
+    kind, size = classify_aggregate(fused, box)
+    assert size == 2 * len(disk)
+    xy = topology.site_positions(fused)
+    small, large = np.linalg.eigvalsh(np.cov(xy.T))
+    assert np.sqrt(large / small) > ELONGATION_THRESHOLD
+    assert kind == "fiber"
+
+
+def test_colour_ramps_start_at_a_visible_tint():
+    """The smallest size in a phase diagram still reads as its phase, not as the white page."""
+    from matplotlib.colors import to_rgb
+
+    for phase in ("fiber", "disk"):
+        start = np.array(plotting.shaded_colormap(plotting.PHASE_COLORS[phase])(0.0)[:3])
+        assert np.abs(start - 1.0).max() > 0.15, phase
+        end = np.array(plotting.shaded_colormap(plotting.PHASE_COLORS[phase])(1.0)[:3])
+        assert np.allclose(end, to_rgb(plotting.PHASE_COLORS[phase]), atol=0.01)
+
+
+def test_cluster_colours_stay_apart_from_phase_colours():
+    """A Monte Carlo cluster is never drawn in a colour that means a phase elsewhere."""
+    from matplotlib.colors import to_rgb
+
+    phases = [np.array(to_rgb(c)) for c in plotting.PHASE_COLORS.values()]
+    for colour in plotting.CLUSTER_COLORS:
+        rgb = np.array(to_rgb(colour))
+        assert min(np.linalg.norm(rgb - p) for p in phases) > 0.3, colour
