@@ -53,7 +53,7 @@ def _run(args, seed, moves, link, bonded, surface):
     particle = Hexagon.from_continuum(args.ell, args.nu, args.eps)
     g = float(continuum.particle_parameters(args.ell, args.nu, args.Gamma, eps=args.eps).g)
     cpu = time.process_time()
-    r = anneal(particle, g, box=args.box, n=args.n, steps=args.sweeps * args.n, seed=seed, method="newton",
+    r = anneal(particle, g=g, box=args.box, n=args.n, steps=args.sweeps * args.n, seed=seed, method="newton",
                tol=1e-3, cluster_moves=moves, cluster_link=link, bonded_moves=bonded,
                surface_moves=surface, progress=False)
     cpu = time.process_time() - cpu

@@ -261,8 +261,8 @@ def dense_cluster(sweeps):
     annealed to the end, the box holds one cluster that wraps around it)."""
     particle = Hexagon.from_continuum(ell=ELL, nu=0.4, eps=EPS)
     g = float(continuum.particle_parameters(ELL, 0.4, 0.5, eps=EPS).g)
-    r = pyfrustrate.anneal(particle, g, box=30, n=300, schedule=[(0.3 * g, 300 * sweeps)], seed=1, method="newton",
-                           progress=False, cluster_moves=0.05, cluster_link=0.9)
+    r = pyfrustrate.anneal(particle, g=g, box=30, n=300, schedule=[(0.3 * g, 300 * sweeps)], seed=1, method="newton",
+                           progress=False, cluster_moves=0.05, cluster_link=0.9, bonded_moves=0.0, surface_moves=0.0)
     finite = [c for c, rank in clusters(r.sites, 30) if rank == 0]
     return [tuple(int(v) for v in s) for s in finite[0]]
 

@@ -55,7 +55,7 @@ def main(argv=None):
         args.n, args.box, args.sweeps = 100, 40, 400
     import_pyfrustrate()
     from pyfrustrate import Hexagon, ansatz, anneal, continuum, replica_exchange
-    from pyfrustrate.replica_exchange import geometric_temperatures
+    from pyfrustrate.montecarlo import geometric_temperatures
 
     particle = Hexagon.from_continuum(args.ell, args.nu, args.eps)
     g = float(continuum.particle_parameters(args.ell, args.nu, args.Gamma, eps=args.eps).g)
@@ -74,10 +74,10 @@ def main(argv=None):
     for seed in args.seeds:
         runs = {}
         cpu, wall = time.process_time(), time.perf_counter()
-        a = anneal(particle, g, box=args.box, n=args.n, steps=args.sweeps * args.n, seed=seed, progress=False, **moves)
+        a = anneal(particle, g=g, box=args.box, n=args.n, steps=args.sweeps * args.n, seed=seed, progress=False, **moves)
         runs["anneal"] = (a, time.process_time() - cpu, time.perf_counter() - wall, "")
         cpu, wall = time.process_time(), time.perf_counter()
-        r = replica_exchange(particle, g, ladder, box=args.box, n=args.n, rounds=rounds, seed=seed, threads=args.threads,
+        r = replica_exchange(particle, ladder, g=g, box=args.box, n=args.n, rounds=rounds, seed=seed, threads=args.threads,
                              progress=False, **moves)
         swaps = f"swaps {np.nanmin(r.swap_acceptance):.2f}-{np.nanmax(r.swap_acceptance):.2f}, {r.round_trips} trips"
         runs["replica exchange"] = (r, time.process_time() - cpu, time.perf_counter() - wall, swaps)

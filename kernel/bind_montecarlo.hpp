@@ -1,45 +1,66 @@
-// Bindings of the Monte Carlo annealing (montecarlo.hpp): one class per particle model from
+// Bindings of the Monte Carlo annealing (montecarlo/chain.hpp): one class per particle model from
 // this one template, and the factory _kernel.MonteCarlo(model, ...) overloaded on the model.
 #pragma once
 
 #include "bind_sites.hpp"
-#include "montecarlo.hpp"
+#include "montecarlo/chain.hpp"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <utility>
 
 namespace pyfrustrate {
 
-inline pybind11::dict counters_dict(const MonteCarloCounters& c) {
+// A state of a chain for Python: the value (montecarlo/state.hpp) with the box and tiling its
+// site numbers refer to.
+struct BoundState {
+    ChainState state;
+    const Tiling* tiling = nullptr;
+    int L = 0;
+};
+
+template <class F, std::size_t... I>
+void for_each_move_counter(MoveCounters& counters, F& f, std::index_sequence<I...>) {
+    (std::get<I>(counters).for_each([&](const char* name, std::int64_t& v) {
+         f(std::string(std::tuple_element_t<I, MoveFamilies>::kName) + "_" + name, v);
+     }),
+     ...);
+}
+
+// Every counter of a state, named once (ChainCounters and each move family's, prefixed by the
+// family's name), handed to f(name, value).
+template <class F>
+void for_each_counter(ChainState& s, F&& f) {
+    s.counters.for_each([&](const char* name, std::int64_t& v) { f(std::string(name), v); });
+    for_each_move_counter(s.move_counters, f, std::make_index_sequence<std::tuple_size_v<MoveFamilies>>{});
+}
+
+inline pybind11::dict counters_dict(ChainState& s) {
     pybind11::dict d;
-    d["attempted"] = c.attempted;
-    d["accepted"] = c.accepted;
-    d["screened"] = c.screened;
-    d["cluster_attempted"] = c.cluster_attempted;
-    d["cluster_accepted"] = c.cluster_accepted;
-    d["cluster_rebonded"] = c.cluster_rebonded;
-    d["surface_attempted"] = c.surface_attempted;
-    d["surface_accepted"] = c.surface_accepted;
-    d["cache_hits"] = c.cache.hits;
-    d["cache_misses"] = c.cache.misses;
-    d["cache_clears"] = c.cache.clears;
-    d["minimisations"] = c.relax.minimisations;
-    d["evaluations"] = c.relax.evaluations;
-    d["fallbacks"] = c.relax.fallbacks;
-    d["unconverged"] = c.relax.unconverged;
-    d["factorizations"] = c.relax.factorizations;
-    d["warm_starts"] = c.relax.warm_starts;
-    d["warm_restarts"] = c.relax.warm_restarts;
+    for_each_counter(s, [&](const std::string& name, std::int64_t& v) { d[name.c_str()] = v; });
     return d;
 }
+
+// The chain of one model and the state it is at, for Python: `run` passes the state into the
+// chain and takes the one it returns (montecarlo/chain.hpp); nothing sets a part of it.
+template <class Model>
+struct BoundChain {
+    MonteCarlo<Model> chain;
+    ChainState state;
+    int n() const { return static_cast<int>(state.particles.size()); }
+};
 
 template <class Model>
 void export_montecarlo(pybind11::module_& m, const char* class_name) {
     namespace py = pybind11;
-    using MC = MonteCarlo<Model>;
+    using MC = BoundChain<Model>;
     py::class_<MC>(m, class_name,
                    "Metropolis Monte Carlo on the topology of N particles in a periodic L x L box of cells of the "
                    "particle's tiling (main text, 'Monte-Carlo validation of the phase diagram'). Energy = sum over "
@@ -48,7 +69,7 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
         .def(py::init([](const Model& model, double g, int box, int n, std::uint64_t seed, const std::string& method,
                          double tol, int max_iter, bool cache, bool warm_start, bool incremental, std::size_t cache_limit,
                          bool delayed_acceptance, double bond_deformation, double cluster_moves, double cluster_link, double bonded_moves,
-                         double surface_moves, bool parent_start) {
+                         double surface_moves, bool parent_start, const std::optional<BoundState>& state) {
                  MonteCarloOptions o;
                  if (method == "linear") o.relax.method = RelaxMethod::Linear;
                  else if (method == "lbfgs") o.relax.method = RelaxMethod::Lbfgs;
@@ -82,15 +103,28 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                      throw std::invalid_argument("parent_start needs method='newton'");
                  o.parent_start = parent_start;
                  o.relax.own_ldl = parent_start;  // the warm path factorises with the kernel's own LDL^T
-                 return new MC(model, g, box, n, seed, o);
+                 auto* mc = new MC{MonteCarlo<Model>(model, g, box, o), ChainState{}};
+                 if (!state) {
+                     mc->state = mc->chain.initial_state(n, seed);
+                     return mc;
+                 }
+                 if (std::string(state->tiling->name) != std::string(mc->chain.box().tiling->name) || state->L != box || static_cast<int>(state->state.particles.size()) != n)
+                     throw std::invalid_argument("state: a state of " + std::to_string(state->state.particles.size()) +
+                                                 " particles in a box of " + std::to_string(state->L) + " does not fit " +
+                                                 std::to_string(n) + " in " + std::to_string(box));
+                 ChainState given = state->state;
+                 given.chain_id = 0;  // from elsewhere: the chain derives its bonds and clusters (a run of no move)
+                 std::int64_t none = 0;
+                 mc->state = mc->chain.run(std::move(given), 0.0, 0, none);
+                 return mc;
              }),
              py::arg("model"), py::arg("g"), py::arg("box"), py::arg("n"), py::arg("seed"), py::arg("method") = "linear",
              py::arg("tol") = 1e-7, py::arg("max_iter") = 100000, py::arg("cache") = true, py::arg("warm_start") = true,
              py::arg("incremental") = true, py::arg("cache_limit") = std::size_t(1) << 24,
              py::arg("delayed_acceptance") = true, py::arg("bond_deformation") = 0.0, py::arg("cluster_moves") = 0.0,
              py::arg("cluster_link") = 1.0, py::arg("bonded_moves") = 0.0, py::arg("surface_moves") = 0.0,
-             py::arg("parent_start") = false,
-             "Random initial placement drawn from the seeded std::mt19937_64. tol is the absolute L-BFGS gradient "
+             py::arg("parent_start") = false, py::arg("state") = py::none(),
+             "Random initial placement drawn from the seeded std::mt19937_64, or the given state (a MonteCarloState of this box). tol is the absolute L-BFGS gradient "
              "tolerance (NLopt works in units of the model's step_scale); cache_limit the stored key entries before the cache is cleared; delayed_acceptance screens "
              "moves with the surrogate energy -(g - bond_deformation) * bonds before relaxing anything (same "
              "Boltzmann distribution); cluster_moves is the probability of a cluster translation: a set grown from "
@@ -124,10 +158,12 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                     py::gil_scoped_release release;
                     std::vector<int> sorted;
                     for (py::ssize_t k = 0; k < blocks; ++k) {
-                        A(k) = mc.run(T(k), S(k));
-                        E(k) = mc.energy();
+                        std::int64_t a = 0;
+                        mc.state = mc.chain.run(std::move(mc.state), T(k), S(k), a);
+                        A(k) = a;
+                        E(k) = mc.chain.energy(mc.state);
                         if (!record_sites) continue;
-                        sorted = mc.particles();
+                        sorted = mc.state.particles;
                         std::sort(sorted.begin(), sorted.end());
                         for (int p = 0; p < mc.n(); ++p) W(k, p) = sorted[p];
                     }
@@ -142,68 +178,49 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
             "Runs blocks of steps[k] attempted moves at temperatures[k] (GIL released). Returns a dict: energy (B,) "
             "after each block, accepted (B,) moves per block, and with record_sites the sorted occupied site indices "
             "(B, n) (site index sublattice + S (i + L j) for S sublattices per cell) after each block.")
-        .def(
-            "step",
-            [](MC& mc, double T) {
-                if (!(T >= 0) || !std::isfinite(T)) throw std::invalid_argument("T must be non-negative and finite");
-                return mc.step(T);
-            },
-            py::arg("T"), "One attempted move; True if accepted.")
-        .def_property_readonly("energy", &MC::energy, "Running energy: -g * bonds + deformation.")
-        .def_property_readonly("deformation", &MC::deformation, "Running sum of relaxed deformation energies.")
-        .def_property_readonly("bonds", &MC::bonds, "Bound pairs of sides in the box.")
-        .def_property_readonly("g", &MC::g)
+        .def_property_readonly("energy", [](const MC& mc) { return mc.chain.energy(mc.state); },
+                               "Running energy: -g * bonds + deformation.")
+        .def_property_readonly("deformation", [](const MC& mc) { return mc.state.deformation; },
+                               "Running sum of relaxed deformation energies.")
+        .def_property_readonly("bonds", [](const MC& mc) { return mc.state.bonds; }, "Bound pairs of sides in the box.")
+        .def_property_readonly("g", [](const MC& mc) { return mc.chain.g(); })
         .def_property_readonly("n", &MC::n)
-        .def_property_readonly("box", [](const MC& mc) { return mc.box().L; })
-        .def("box_energy", &MC::box_energy, py::arg("canonical") = true,
+        .def_property_readonly("box", [](const MC& mc) { return mc.chain.box().L; })
+        .def("box_energy", [](MC& mc, bool canonical) { return mc.chain.box_energy(mc.state, canonical); },
+             py::arg("canonical") = true,
              "Energy recomputed from scratch over every cluster, without the cache (canonical=False: from the "
              "sites as they lie, not from the canonical representative of each shape).")
         .def_property_readonly(
             "particles",
             [](const MC& mc) {
                 std::vector<Site> sites;
-                for (const int s : mc.particles()) sites.push_back(mc.box().coords(s));
-                return sites_to_array(*mc.box().tiling, sites);
+                for (const int s : mc.state.particles) sites.push_back(mc.chain.box().coords(s));
+                return sites_to_array(*mc.chain.box().tiling, sites);
             },
             "(n, 2) cells (0 <= i, j < box) of each particle, in particle order; (n, 3) with the sublattice for "
             "tilings with several.")
-        .def("place", [](MC& mc, const SiteArray& sites) { mc.place(sites_from_array(*mc.box().tiling, sites)); },
-             py::arg("sites"), "Puts particle p on sites[p] (as `particles`, reduced modulo the box); energy from scratch.")
-        .def_property_readonly("shape_symmetries", &MC::shape_symmetries,
+        .def("place",
+             [](MC& mc, const SiteArray& sites) {
+                 mc.state = mc.chain.place(std::move(mc.state), sites_from_array(*mc.chain.box().tiling, sites));
+             },
+             py::arg("sites"),
+             "Puts particle p on sites[p] (as `particles`, reduced modulo the box): a configuration to start from, "
+             "energy from scratch, no relaxed displacements known; generator and counters kept.")
+        .def_property_readonly("shape_symmetries", [](const MC& mc) { return mc.chain.shape_symmetries(); },
                                "Lattice point operations under which cluster shapes share their energy (shape_key.hpp).")
-        .def_property("rng_state", &MC::rng_state, &MC::set_rng_state,
-                      "State of the std::mt19937_64 as its stream representation.")
-        .def(
-            "set_deformation",
-            [](MC& mc, double deformation) {
-                if (!std::isfinite(deformation)) throw std::invalid_argument("deformation must be finite");
-                mc.set_deformation(deformation);
-            },
-            py::arg("deformation"),
-             "Overrides the running deformation sum (exact resumption from a checkpoint).")
-        .def_property(
-            "counters", [](const MC& mc) { return counters_dict(mc.counters); },
-            [](MC& mc, const py::dict& d) {
-                auto get = [&](const char* k) { return d.contains(k) ? d[k].cast<std::int64_t>() : std::int64_t(0); };
-                MonteCarloCounters& c = mc.counters;
-                c.attempted = get("attempted"), c.accepted = get("accepted"), c.screened = get("screened");
-                c.cluster_attempted = get("cluster_attempted"), c.cluster_accepted = get("cluster_accepted");
-                c.cluster_rebonded = get("cluster_rebonded");
-                c.surface_attempted = get("surface_attempted"), c.surface_accepted = get("surface_accepted");
-                c.cache.hits = get("cache_hits"), c.cache.misses = get("cache_misses"), c.cache.clears = get("cache_clears");
-                c.relax.minimisations = get("minimisations"), c.relax.evaluations = get("evaluations");
-                c.relax.fallbacks = get("fallbacks"), c.relax.unconverged = get("unconverged");
-                c.relax.factorizations = get("factorizations"), c.relax.warm_starts = get("warm_starts");
-                c.relax.warm_restarts = get("warm_restarts");
-            },
+        .def_property_readonly(
+            "state", [](const MC& mc) { return BoundState{mc.state, mc.chain.box().tiling, mc.chain.box().L}; },
+            "The chain's state, a value (MonteCarloState): pass it as MonteCarlo(..., state=) to continue the chain.")
+        .def_property_readonly(
+            "counters", [](MC& mc) { return counters_dict(mc.state); },
             "attempted, accepted, screened (rejected by the surrogate), cluster_attempted, cluster_accepted (cluster "
             "translations, counted in attempted/accepted too), cluster_rebonded (accepted translations that made or "
-            "broke bonds), surface_attempted, surface_accepted (surface moves, within attempted/accepted), cache_hits, cache_misses, cache_clears, minimisations, evaluations (energy+gradient "
-            "evaluations, 1 per linear solve), fallbacks (linear solve refused, done by L-BFGS), unconverged, "
-            "factorizations, warm_starts (Newton from the parents' relaxed state), warm_restarts (of those, "
-            "redone from the linear solution).")
-        .def_property_readonly("cache_size", &MC::cache_size)
-        .def("clear_cache", &MC::clear_cache);
+            "broke bonds), surface_attempted, surface_accepted (surface moves, within attempted/accepted), cache_hits, "
+            "cache_misses, cache_clears, minimisations, evaluations (energy+gradient evaluations, 1 per linear "
+            "solve), fallbacks (linear solve refused, done by L-BFGS), unconverged, factorizations, warm_starts "
+            "(Newton from the parents' relaxed state), warm_restarts (of those, redone from the linear solution).")
+        .def_property_readonly("cache_size", [](const MC& mc) { return mc.chain.cache_size(); })
+        .def("clear_cache", [](MC& mc) { mc.chain.clear_cache(); });
     // The factory: pybind11 picks the class of the model passed.
     m.def(
         "MonteCarlo",

@@ -55,7 +55,8 @@ void add_wrap(Cluster& cl, int x, int y) {
 }  // namespace
 
 Box::Box(const Tiling& tiling_, int L_) : tiling(&tiling_), L(L_) {
-    if (L < 2) throw std::invalid_argument("box must be at least 2, got " + std::to_string(L));
+    // A box of one cell is a valid torus (each site its own image); the chain needs two (montecarlo/chain.hpp).
+    if (L < 1) throw std::invalid_argument("box must be at least 1, got " + std::to_string(L));
     if (L > 30000) throw std::invalid_argument("box must be at most 30000, got " + std::to_string(L));
     const int D = neighbours();
     neighbour.resize(static_cast<std::size_t>(D) * n_sites());

@@ -3,6 +3,7 @@
 
 namespace py = pybind11;
 
+void export_montecarlo_common(py::module_& m);
 void export_chain(py::module_& m);
 void export_topology(py::module_& m);
 void export_hexagon(py::module_& m);
@@ -11,6 +12,7 @@ void export_triangle(py::module_& m);
 
 PYBIND11_MODULE(_kernel, m) {
     m.doc() = "pyfrustrate's C++ kernel (Eigen, NLopt, CHOLMOD): energies, gradients, Hessians, L-BFGS, Newton and linear solves";
+    export_montecarlo_common(m);
     export_chain(m);
     export_topology(m);
     export_hexagon(m);

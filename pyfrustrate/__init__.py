@@ -41,10 +41,7 @@ from . import (ansatz, boundary_layer, chain, continuum, ground_states, io, mont
                random_particles, relaxation, topology)
 from .particles import Hexagon, Particle, Triangle
 from .relaxation import ConvergenceWarning, Relaxation, StiffnessCache, relax
-from .montecarlo import AnnealResult, anneal
-# The function hides its module's name until pyfrustrate/replica_exchange.py moves to
-# pyfrustrate/montecarlo/exchange.py (tests/test_api.py marks this one case until then).
-from .replica_exchange import ReplicaExchangeResult, replica_exchange
+from .montecarlo import AnnealResult, ReplicaExchangeResult, anneal, replica_exchange
 from .random_particles import RandomHexagon
 
 if TYPE_CHECKING:  # type checkers see the lazily loaded module as it is

@@ -125,15 +125,11 @@ def particle_entry_points():
         ("random_particles.aggregation_line", lambda p: random_particles.aggregation_line(p, [0.5], 2.0, 0.5)),
     ]
     params = [pytest.param(call, id=name) for name, call in cases]
-    # The Monte Carlo entry points belong to pyfrustrate/montecarlo (moved and checked separately):
-    # they raised ValueError when this test was written, and are to call _checks.particle.
-    pending = pytest.mark.xfail(raises=ValueError, strict=False,
-                                reason="Monte Carlo entry points to call _checks.particle")
-    params.append(pytest.param(lambda p: pf.anneal(p, g=0.1, box=6, n=4, seed=1, progress=False), id="anneal",
-                               marks=pending))
+    # The Monte Carlo entry points (pyfrustrate/montecarlo) call _checks.particle too.
+    params.append(pytest.param(lambda p: pf.anneal(p, g=0.1, box=6, n=4, seed=1, progress=False), id="anneal"))
     params.append(pytest.param(lambda p: pf.replica_exchange(p, g=0.1, temperatures=[0.5, 1.0], box=6, n=4, rounds=1,
                                                                   seed=1, progress=False),
-                               id="replica_exchange", marks=pending))
+                               id="replica_exchange"))
     return params
 
 

@@ -1,5 +1,5 @@
 """Tests of the Monte Carlo annealing of aggregate topologies (``pyfrustrate.montecarlo``,
-``kernel/montecarlo.hpp``).
+``kernel/montecarlo/``).
 
 References are independent of the kernel's bookkeeping: energies recomputed from scratch over
 every cluster (with and without canonical representatives), periodic cells built by
@@ -268,11 +268,18 @@ def compare_with_boltzmann(mc, states, E, T_, g, samples, batches=20):
     """Run ``mc`` at fixed T for ``samples`` moves and compare the visited states with the
     exact weights exp(-E/T) of the enumerated ``states``: the total-variation distances over
     states and over energy levels (to 1e-9 g), and the largest batch-means z-score of a level."""
-    w = np.exp(-(E - E.min()) / T_)
-    w /= w.sum()
     out = mc.run(np.full(samples, T_), np.ones(samples, dtype=np.int64), True)
     index = {s: k for k, s in enumerate(states)}
     ids = np.array([index[tuple(r)] for r in out["sites"].tolist()])
+    return boltzmann_statistics(ids, states, E, T_, g, batches)
+
+
+def boltzmann_statistics(ids, states, E, T_, g, batches=20):
+    """The statistics of ``compare_with_boltzmann`` for a chain that visited the states ``ids``
+    (indices into ``states``), one per attempted move."""
+    samples = len(ids)
+    w = np.exp(-(E - E.min()) / T_)
+    w /= w.sum()
     h = np.bincount(ids, minlength=len(states)) / samples
     levels = np.unique(np.round(E / g, 9), return_inverse=True)[1]
     w_levels = np.bincount(levels, w)
@@ -285,12 +292,17 @@ def compare_with_boltzmann(mc, states, E, T_, g, samples, batches=20):
     return tv_states, tv_levels, z.max()
 
 
+def sensitive_particle():
+    """eps = 0.05 and Gamma = 0.1: deformation energies reach ~0.4 T at T = 0.5 g, so that a
+    wrong deformation term in the acceptance shows (test_montecarlo_rules.py)."""
+    return (Hexagon.from_continuum(ell=5, nu=0.9, eps=0.05),
+            float(continuum.particle_parameters(5, 0.9, 0.1, eps=0.05).g))
+
+
 @pytest.mark.parametrize("box,n", [(3, 3), (4, 3), (3, 4)])
 @pytest.mark.parametrize("delayed", [True, False])
 def test_sampling_matches_boltzmann_weights(box, n, delayed):
-    # eps = 0.05 makes deformation energies a sizeable part of the weights.
-    particle = Hexagon.from_continuum(ell=5, nu=0.9, eps=0.05)
-    g = float(continuum.particle_parameters(5, 0.9, 0.5, eps=0.05).g)
+    particle, g = sensitive_particle()
     tv_states, tv_levels, z, E = sampled_vs_exact(particle, g, box, n, 0.5, 200_000, delayed, seed=box + n + delayed)
     assert len(np.unique(np.round(E, 10))) >= 5
     assert z < 5
@@ -303,8 +315,7 @@ def test_cluster_moves_keep_the_boltzmann_weights(box, n, delayed):
     """Half the moves translate whole clusters (rejected on contact): the chain must still
     sample exp(-E/T) exactly, which a translation that could create or break bonds, or favour
     large clusters, would not."""
-    particle = Hexagon.from_continuum(ell=5, nu=0.9, eps=0.05)
-    g = float(continuum.particle_parameters(5, 0.9, 0.5, eps=0.05).g)
+    particle, g = sensitive_particle()
     mc = kernel_mc(particle, g, box, n, 9, cluster_moves=0.5)
     mc.run(np.array([0.5 * g]), np.array([20_000]))
     assert mc.counters["cluster_accepted"] > 1000  # translations do happen
@@ -316,19 +327,18 @@ def test_cluster_moves_keep_the_boltzmann_weights(box, n, delayed):
     assert tv_states < 0.06
 
 
-@pytest.mark.parametrize("box,n,delayed,link", [(4, 3, True, 0.5), (4, 3, False, 0.5), (3, 4, True, 0.3)])
+@pytest.mark.parametrize("box,n,delayed,link", [(4, 3, True, 0.8), (4, 3, False, 0.8), (3, 4, True, 0.3)])
 def test_linked_cluster_moves_keep_the_boltzmann_weights(box, n, delayed, link):
     """Half the moves shift a set grown by following each bond with probability ``link``: sets
     land in contact (aggregates merge) and leave part of a cluster behind (they split), accepted
     with the Hastings factor (1 - link)^(new bonds - old bonds). The chain must sample exp(-E/T)
-    exactly. Without the factor it does not: this box then gives z ~ 28 and a level distance of
-    0.07 (checked when the move was written)."""
-    particle = Hexagon.from_continuum(ell=5, nu=0.9, eps=0.05)
-    g = float(continuum.particle_parameters(5, 0.9, 0.5, eps=0.05).g)
+    exactly. Links other than 0.5 (where 1 - link = link) make the factor's form matter:
+    test_montecarlo_rules.py shows the statistic rejecting link^(b' - b) in its place."""
+    particle, g = sensitive_particle()
     states, E = enumerate_states(kernel_mc(particle, g, box, n, 0), box, n)
     mc = kernel_mc(particle, g, box, n, 11, delayed_acceptance=delayed, cluster_moves=0.5, cluster_link=link)
     tv_states, tv_levels, z = compare_with_boltzmann(mc, states, E, 0.5 * g, g, 200_000)
-    assert mc.counters["cluster_rebonded"] > 10_000  # translations that make or break bonds
+    assert mc.counters["cluster_rebonded"] > 5_000  # translations that make or break bonds
     assert mc.energy == pytest.approx(mc.box_energy(True), rel=0, abs=1e-12)
     assert len(np.unique(np.round(E, 10))) >= 5
     assert z < 5
@@ -342,8 +352,7 @@ def test_bonded_particle_moves_keep_the_boltzmann_weights(box, n, delayed, bonde
     bias) with probability ``bonded``, accepted with the ratio of reverse to forward proposal
     probabilities: the chain must sample exp(-E/T) exactly. Without that ratio it does not: this
     box then gives z ~ 50 and a level distance of 0.12 (checked when the move was written)."""
-    particle = Hexagon.from_continuum(ell=5, nu=0.9, eps=0.05)
-    g = float(continuum.particle_parameters(5, 0.9, 0.5, eps=0.05).g)
+    particle, g = sensitive_particle()
     tv_states, tv_levels, z, E = sampled_vs_exact(particle, g, box, n, 0.5, 200_000, delayed, seed=11,
                                                   bonded_moves=bonded)
     assert len(np.unique(np.round(E, 10))) >= 5
@@ -425,8 +434,7 @@ def test_linked_cluster_moves_merge_aggregates_at_low_temperature(particle, g):
 @pytest.mark.slow
 @pytest.mark.parametrize("delayed", [True, False])
 def test_sampling_matches_boltzmann_weights_long(delayed):
-    particle = Hexagon.from_continuum(ell=5, nu=0.9, eps=0.05)
-    g = float(continuum.particle_parameters(5, 0.9, 0.5, eps=0.05).g)
+    particle, g = sensitive_particle()
     tv_states, tv_levels, z, _ = sampled_vs_exact(particle, g, 4, 4, 0.4, 5_000_000, delayed, seed=17)
     assert z < 5
     assert tv_levels < 0.004
@@ -437,9 +445,10 @@ def test_sampling_matches_boltzmann_weights_long(delayed):
 # The Python API
 # --------------------------------------------------------------------------------------------
 
-def small_anneal(particle, g, **kw):
-    kw = dict(dict(box=12, n=24, steps=24 * 150, seed=3, progress=False), **kw)
-    return pyfrustrate.anneal(particle, g, **kw)
+def small_anneal(particle, g=None, **kw):
+    """A short anneal with L-BFGS energies (exactly resumable: no path-dependent warm starts)."""
+    kw = dict(dict(box=12, n=24, steps=24 * 150, seed=3, progress=False, method="lbfgs"), **kw)
+    return pyfrustrate.anneal(particle, g=g, **kw)
 
 
 def test_anneal_result(particle, g):
@@ -604,7 +613,7 @@ def test_anneal_runs_for_every_particle_model(name):
     table of the final sites."""
     particle = MODELS[name]()
     g = 2 * particle.bulk_energy_per_particle
-    r = pyfrustrate.anneal(particle, g, box=8, n=30, steps=30 * 50, seed=3, progress=False, method="linear")
+    r = pyfrustrate.anneal(particle, g=g, box=8, n=30, steps=30 * 50, seed=3, progress=False, method="linear")
     occupied = {tuple(s) for s in r.sites.tolist()}
 
     def wrap(v):

@@ -1,4 +1,4 @@
-"""Warm-started exact cluster energies in the Monte Carlo (``parent_start``, kernel/montecarlo.hpp;
+"""Warm-started exact cluster energies in the Monte Carlo (``parent_start``, kernel/montecarlo/chain.hpp;
 ``anneal(method="newton", warm_start=True)``): each move's clusters are relaxed by Newton from the
 relaxed displacements of the clusters they came from instead of from the linear solution of
 their canonical representative.
@@ -128,8 +128,8 @@ def test_warm_chain_samples_the_boltzmann_weights(delayed, moves):
 def test_anneal_newton_uses_warm_starts_unless_told_not_to():
     particle, g = setup(DENSE)
     kw = dict(box=10, n=30, steps=30 * 40, seed=4, method="newton", progress=False)
-    warm = pyfrustrate.anneal(particle, g, **kw)
-    cold = pyfrustrate.anneal(particle, g, warm_start=False, **kw)
+    warm = pyfrustrate.anneal(particle, g=g, **kw)
+    cold = pyfrustrate.anneal(particle, g=g, warm_start=False, **kw)
     assert warm.counters["warm_starts"] > 0 and cold.counters["warm_starts"] == 0
     assert warm.energy == pytest.approx(cold.energy, rel=1e-6)
     with pytest.raises(ValueError, match="parent_start"):

@@ -44,8 +44,9 @@ def test_kernel_build_hash_is_the_hash_of_the_sources_it_was_built_from():
         pytest.skip("no source tree or compiler to recompute the hash from")
     version = subprocess.run([compiler, "-dumpfullversion"], capture_output=True, text=True).stdout.strip()
     text = f"GNU {version} Release"
-    for source in sorted([*ROOT.glob("kernel/*.cpp"), *ROOT.glob("kernel/*.hpp")], key=str):
-        text += f" {source.name}:{hashlib.sha256(source.read_bytes()).hexdigest()}"
+    for source in sorted([*ROOT.glob("kernel/*.cpp"), *ROOT.glob("kernel/*.hpp"), *ROOT.glob("kernel/montecarlo/*.hpp")],
+                         key=str):
+        text += f" {source.relative_to(ROOT / 'kernel').as_posix()}:{hashlib.sha256(source.read_bytes()).hexdigest()}"
     assert _kernel.build_hash == hashlib.sha256(text.encode()).hexdigest()
 
 

@@ -1,4 +1,4 @@
-"""Tests of replica exchange (pyfrustrate.replica_exchange).
+"""Tests of replica exchange (pyfrustrate.montecarlo.exchange).
 
 Independent reference: the exact Boltzmann weights of every configuration of a box small enough
 to enumerate, at each temperature of the ladder (a wrong swap rule, or a swap that moved a
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from pyfrustrate import Hexagon, _kernel, continuum
-from pyfrustrate.replica_exchange import ReplicaState, geometric_temperatures, replica_exchange
+from pyfrustrate.montecarlo import ReplicaState, geometric_temperatures, replica_exchange
 
 
 @pytest.fixture(scope="module")
@@ -45,7 +45,7 @@ def test_every_temperature_samples_its_boltzmann_weights(particle, g, box, n, cl
     # after an anneal): the chains still forget it and sample the same weights.
     T = np.array([0.25, 0.5, 1.0]) * g
     rounds = 40_000
-    r = replica_exchange(particle, g, T, box=box, n=n, rounds=rounds, exchange_every=5, seed=box + n, threads=1,
+    r = replica_exchange(particle, T, g=g, box=box, n=n, rounds=rounds, exchange_every=5, seed=box + n, threads=1,
                          method="lbfgs", tol=1e-6, cluster_moves=cluster_moves, cluster_link=cluster_link, quench_sweeps=0,
                          surface_moves=surface_moves, progress=False, initial_sites=initial_sites,
                          record_sites=True)
@@ -68,9 +68,9 @@ def test_every_temperature_samples_its_boltzmann_weights(particle, g, box, n, cl
 
 def test_continuing_from_the_state_equals_the_uninterrupted_run(particle, g):
     kw = dict(box=10, n=20, seed=7, method="linear", progress=False, temperatures=geometric_temperatures(0.2 * g, g, 4))
-    whole = replica_exchange(particle, g, rounds=60, **kw)
-    half = replica_exchange(particle, g, rounds=30, **kw)
-    rest = replica_exchange(particle, g, rounds=60, state=half.state, **kw)
+    whole = replica_exchange(particle, g=g, rounds=60, **kw)
+    half = replica_exchange(particle, g=g, rounds=30, **kw)
+    rest = replica_exchange(particle, g=g, rounds=60, state=half.state, **kw)
     assert rest.resumed and half.state.rounds == 30  # the state passed in is not modified
     assert np.array_equal(rest.energy_trace, whole.energy_trace)
     assert np.array_equal(rest.sites, whole.sites) and rest.energy == whole.energy
@@ -80,19 +80,19 @@ def test_continuing_from_the_state_equals_the_uninterrupted_run(particle, g):
 
 def test_checkpoint_resumes_and_threads_do_not_change_the_chain(particle, g, tmp_path):
     kw = dict(box=10, n=20, seed=8, method="linear", progress=False, temperatures=geometric_temperatures(0.2 * g, g, 4))
-    whole = replica_exchange(particle, g, rounds=40, threads=1, **kw)
+    whole = replica_exchange(particle, g=g, rounds=40, threads=1, **kw)
     path = tmp_path / "pt.pkl"
-    first = replica_exchange(particle, g, rounds=20, threads=2, checkpoint=path, **kw)
+    first = replica_exchange(particle, g=g, rounds=20, threads=2, checkpoint=path, **kw)
     assert path.exists() and not first.resumed
-    again = replica_exchange(particle, g, rounds=40, threads=2, checkpoint=path, **kw)
+    again = replica_exchange(particle, g=g, rounds=40, threads=2, checkpoint=path, **kw)
     assert again.resumed
     assert np.array_equal(again.energy_trace, whole.energy_trace) and np.array_equal(again.sites, whole.sites)
     with pytest.raises(ValueError, match="different parameters"):
-        replica_exchange(particle, 1.1 * g, rounds=40, checkpoint=path, **kw)
+        replica_exchange(particle, g=1.1 * g, rounds=40, checkpoint=path, **kw)
 
 
 def test_quench_ends_in_a_local_minimum_of_the_coldest_configuration(particle, g):
-    r = replica_exchange(particle, g, geometric_temperatures(0.2 * g, g, 3), box=10, n=20, rounds=30, seed=2,
+    r = replica_exchange(particle, geometric_temperatures(0.2 * g, g, 3), g=g, box=10, n=20, rounds=30, seed=2,
                          method="linear", quench_sweeps=100, progress=False)
     cold = r.energy_trace[-1, 0]
     assert r.energy <= cold + 1e-12
@@ -109,19 +109,19 @@ def test_initial_sites_start_every_replica_and_enter_the_checkpoint(particle, g,
     mc = _kernel.MonteCarlo(particle._kernel_model, g, 10, 20, 0, method="linear")
     mc.place(sites)
     start = mc.box_energy(True)
-    r = replica_exchange(particle, g, rounds=0, quench_sweeps=0, initial_sites=sites, **kw)
+    r = replica_exchange(particle, g=g, rounds=0, quench_sweeps=0, initial_sites=sites, **kw)
     def occupied(a):
         return sorted(map(tuple, np.asarray(a).tolist()))
 
     assert occupied(r.sites) == occupied(sites)
     assert r.energy == pytest.approx(start, rel=1e-9)
-    assert all(occupied(rep["particles"]) == occupied(sites) for rep in r.state.replicas)
+    assert all(occupied(rep.particles) == occupied(sites) for rep in r.state.replicas)
     # A descent from those sites never ends above them.
-    assert replica_exchange(particle, g, rounds=0, quench_sweeps=20, initial_sites=sites, **kw).energy <= start + 1e-12
+    assert replica_exchange(particle, g=g, rounds=0, quench_sweeps=20, initial_sites=sites, **kw).energy <= start + 1e-12
     path = tmp_path / "pt.pkl"
-    replica_exchange(particle, g, rounds=5, checkpoint=path, initial_sites=sites, **kw)
+    replica_exchange(particle, g=g, rounds=5, checkpoint=path, initial_sites=sites, **kw)
     with pytest.raises(ValueError, match="different parameters"):
-        replica_exchange(particle, g, rounds=10, checkpoint=path, initial_sites=sites[::-1], **kw)
+        replica_exchange(particle, g=g, rounds=10, checkpoint=path, initial_sites=sites[::-1], **kw)
 
 
 @pytest.mark.parametrize("kwargs, message", [

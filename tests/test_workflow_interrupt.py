@@ -93,7 +93,7 @@ def test_figures_command_resumes_after_sigterm_from_the_checkpoint(tmp_path):
     os.killpg(run.pid, signal.SIGTERM)
     assert run.wait(timeout=120) != 0
     assert not (repo / MC_TARGET).exists(), "a cancelled job must leave no output"
-    checkpoints = list((repo / "results/montecarlo/checkpoints").glob("*.pkl"))
+    checkpoints = list((repo / "results/montecarlo/checkpoints").glob("*.npz"))
     assert len(checkpoints) == 1, "the cancelled run saves its checkpoint on SIGTERM"
     chain_made = (repo / TARGET).stat().st_mtime_ns
 
@@ -106,4 +106,4 @@ def test_figures_command_resumes_after_sigterm_from_the_checkpoint(tmp_path):
     assert "resumed from checkpoint" in mc_log.read_text()
     with np.load(repo / MC_TARGET) as data:
         assert int(data["steps"][-1]) == 100 * 12000 and int(data["n"]) == 100
-    assert not list((repo / "results/montecarlo/checkpoints").glob("*.pkl")), "a finished run removes its checkpoint"
+    assert not list((repo / "results/montecarlo/checkpoints").glob("*.npz")), "a finished run removes its checkpoint"

@@ -46,9 +46,9 @@ def stop_halfway(steps_done, total_steps, energy):
         raise Interrupted(f"stopped at {steps_done} of {total_steps} moves")
 
 
-checkpoint = Path(tempfile.mkdtemp()) / "run.pkl"
+checkpoint = Path(tempfile.mkdtemp()) / "run.npz"
 try:
-    pf.anneal(particle, g, checkpoint=checkpoint, callback=stop_halfway, **run_options)
+    pf.anneal(particle, g=g, checkpoint=checkpoint, callback=stop_halfway, **run_options)
 except Interrupted as reason:
     print(reason)
 saved = montecarlo.read_checkpoint(checkpoint)
@@ -61,8 +61,8 @@ print(f"checkpoint written: {checkpoint.name}")
 # state. The resumed run takes the same moves as the uninterrupted one; its energies agree to
 # the relaxation tolerance (the cache of cluster energies is not saved).
 
-resumed = pf.anneal(particle, g, checkpoint=checkpoint, **run_options)
-straight = pf.anneal(particle, g, **run_options)
+resumed = pf.anneal(particle, g=g, checkpoint=checkpoint, **run_options)
+straight = pf.anneal(particle, g=g, **run_options)
 print(f"resumed: {resumed.resumed}; bonds {resumed.bonds} (in one go: {straight.bonds}); "
       f"energy {resumed.energy:.6e} (in one go: {straight.energy:.6e})")
 
@@ -93,8 +93,8 @@ g_random = float(random_particles.binding_energy(random_particle, 0.5, random_pa
                                                  float(random_particle.moduli["nu"])))
 
 small = dict(box=12, n=24, steps=200 * 24, seed=3, method="newton", progress=False)
-others = {"triangles": pf.anneal(triangle, g_triangle, **small),
-          "a random particle": pf.anneal(random_particle, g_random, **small)}
+others = {"triangles": pf.anneal(triangle, g=g_triangle, **small),
+          "a random particle": pf.anneal(random_particle, g=g_random, **small)}
 fig, axes = plt.subplots(1, 2, figsize=(8, 3.4))
 for ax, (name, result), model in zip(axes, others.items(), (triangle, random_particle)):
     montecarlo.draw_snapshot(result.sites, result.box, ax=ax, particle=model)

@@ -20,7 +20,7 @@ import os
 import numpy as np
 
 from pyfrustrate import anneal, continuum
-from pyfrustrate.replica_exchange import geometric_temperatures, replica_exchange
+from pyfrustrate.montecarlo import MonteCarloOptions, geometric_temperatures, replica_exchange
 from pyfrustrate.io import logging_to, save_npz, sigterm_raises
 from pyfrustrate.provenance import for_job
 from pyfrustrate.particles import particle_class
@@ -38,11 +38,12 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
     # Named by everything that defines the run, so a changed configuration starts afresh while an
     # interrupted run of the same configuration resumes.
     checkpoint = (f"{p.checkpoint_stem}_{n}in{box}_{sweeps}sweeps_{method}_tol{p.tol:g}_eps{p.eps:g}"
-                  f"_cm{cluster_moves:g}_link{cluster_link:g}_bonded{bonded_moves:g}_surface{surface_moves:g}.pkl")
+                  f"_cm{cluster_moves:g}_link{cluster_link:g}_bonded{bonded_moves:g}_surface{surface_moves:g}.npz")
     # One chain for both stages: the anneal and the exchange after it make the same moves.
-    chain = dict(box=box, n=n, seed=p.seed, method=method, tol=p.tol, cluster_moves=cluster_moves,
-                 cluster_link=cluster_link, bonded_moves=bonded_moves, surface_moves=surface_moves, progress=True)
-    r = anneal(particle, g, steps=n * sweeps, checkpoint=checkpoint, **chain)
+    options = MonteCarloOptions(method=method, tol=p.tol, cluster_moves=cluster_moves, cluster_link=cluster_link,
+                                bonded_moves=bonded_moves, surface_moves=surface_moves)
+    chain = dict(g=g, box=box, n=n, seed=p.seed, options=options, progress=True)
+    r = anneal(particle, steps=n * sweeps, checkpoint=checkpoint, **chain)
     if r.resumed:
         print(f"resumed from checkpoint {checkpoint}")
     final, exchange, exchange_checkpoint = r, {}, None
@@ -57,8 +58,8 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
         (T_low, T_high), replicas = p.exchange["temperatures"], p.exchange["replicas"]
         ladder = geometric_temperatures(T_low * g, T_high * g, replicas)
         exchange_checkpoint = (f"{checkpoint[:-4]}_exchange{rounds}_K{replicas}"
-                               f"_T{T_low:g}-{T_high:g}.pkl")
-        x = replica_exchange(particle, g, ladder, rounds=rounds, initial_sites=r.sites, checkpoint=exchange_checkpoint,
+                               f"_T{T_low:g}-{T_high:g}.npz")
+        x = replica_exchange(particle, ladder, rounds=rounds, initial_sites=r.sites, checkpoint=exchange_checkpoint,
                              threads=snakemake.threads, **chain)  # noqa: F821 (the job's cores: the rule's threads)
         print(f"replica exchange after the anneal, {replicas} temperatures {T_low:g}-{T_high:g} g, "
               f"{rounds} rounds: energy {r.energy:.6g} -> {x.energy:.6g}, bonds {r.bonds} -> "

@@ -1,7 +1,6 @@
 """Replica exchange (parallel tempering) over temperature for the aggregation Monte Carlo.
 
-``K`` copies of the box (replicas) run the same Metropolis chain as ``anneal`` (single-particle
-moves, optional cluster translations, delayed acceptance), each at one temperature of a ladder
+``K`` copies of the box (replicas) run the same chain as ``anneal`` (the same ``MonteCarloOptions``), each at one temperature of a ladder
 ``T_1 < ... < T_K``. After every round of ``exchange_every`` attempted moves per replica,
 neighbouring temperatures offer to swap their configurations, accepted with probability
 
@@ -29,7 +28,6 @@ import copy
 import hashlib
 import math
 import os
-import pickle
 import secrets
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -37,15 +35,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _kernel
-from ._checks import integer, non_negative, probability
-from .montecarlo import BoxState, _check_signature, _particle_signature, _write_atomically
-from .relaxation import METHODS
-from .topology import tiling_facts
+from .._checks import integer
+from .analysis import BoxState
+from .checkpoints import read_checkpoint_file
+from .driver import box_run, chain_states_from_disk, drive, new_chain, particle_signature, save
+from .options import chain_options
+from .trajectory import Trajectory
 
-__all__ = ["replica_exchange", "geometric_temperatures", "ReplicaState", "ReplicaExchangeResult"]
-
-_CHECKPOINT_VERSION = 1
+__all__ = ["replica_exchange", "geometric_temperatures", "ReplicaState", "ReplicaExchangeResult", "read_checkpoint"]
 
 
 def geometric_temperatures(T_min: float, T_max: float, count: int) -> np.ndarray:
@@ -57,18 +54,20 @@ def geometric_temperatures(T_min: float, T_max: float, count: int) -> np.ndarray
     return np.geomspace(T_min, T_max, count)
 
 
+
+
 @dataclass
 class ReplicaState:
-    """Everything a replica-exchange run needs to continue: a value, picklable.
+    """Everything a replica-exchange run needs to continue: a value.
 
-    ``replicas``: per replica a dict of ``particles`` (sites), ``rng_state`` (the kernel stream),
-    ``deformation`` and ``counters``; ``slot_of_replica[k]``: the temperature index replica ``k``
-    holds; ``swap_rng``: the bit-generator state of the swap stream; ``rounds``: rounds done;
-    ``energy`` (rounds, K): the energy at each temperature after each round; ``swaps_attempted``
-    and ``swaps_accepted`` (K - 1,): per neighbouring pair; ``best_energy`` and ``best_sites``: the
-    lowest energy seen at the coldest temperature after a round and its sites; ``round_trips``:
-    how many times a replica came back to the coldest temperature after reaching the hottest,
-    ``last_end`` (K,): the end of the ladder each replica last visited (-1: neither yet)."""
+    ``replicas``: each replica's ``ChainState`` (``driver``); ``slot_of_replica[k]``: the temperature index
+    replica ``k`` holds; ``swap_rng``: the bit-generator state of the swap stream; ``rounds``:
+    rounds done; ``energy`` (rounds, K): the energy at each temperature after each round;
+    ``swaps_attempted`` and ``swaps_accepted`` (K - 1,): per neighbouring pair; ``best_energy``
+    and ``best_sites``: the lowest energy seen at the coldest temperature after a round and its
+    sites; ``round_trips``: how many times a replica came back to the coldest temperature after
+    reaching the hottest, ``last_end`` (K,): the end of the ladder each replica last visited
+    (-1: neither yet)."""
 
     replicas: list
     slot_of_replica: np.ndarray
@@ -117,20 +116,22 @@ def _streams(seed: int, count: int):
     return replica_seeds, np.random.default_rng(children[count])
 
 
-def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exchange_every=None, seed=None,
-                     method="lbfgs", tol=1e-3, cluster_moves=0.0, cluster_link=1.0, bonded_moves=0.0, surface_moves=0.0,
-                     delayed_acceptance=True, quench_sweeps=50,
-                     threads=None, state=None, checkpoint=None, checkpoint_interval=60.0, progress=True,
-                     record_sites=False, max_iter=100_000, initial_sites=None) -> ReplicaExchangeResult:
+
+def replica_exchange(particle, temperatures, *, g=None, Gamma=None, convention="measured", box=60, n=200, rounds=1000,
+                     exchange_every=None, seed=None, options=None, quench_sweeps=50, threads=None, state=None,
+                     checkpoint=None, checkpoint_interval=60.0, progress=True, record_sites=False, initial_sites=None,
+                     trajectory=None, trajectory_every=None, **option_fields) -> ReplicaExchangeResult:
     """Replica exchange of ``n`` particles in a periodic ``box x box`` lattice (module docstring).
 
     Parameters
     ----------
     particle : any particle model (Hexagon, RandomHexagon, Triangle)
-    g : float
-        Binding energy per bound pair of sides (>= 0).
+        Anything else raises ``TypeError``.
     temperatures : sequence of float
         The ladder, increasing, positive (``geometric_temperatures``); at least two.
+    g, Gamma, convention : keyword only
+        The binding, as in ``anneal``: ``g`` (binding energy per bound pair of sides) or
+        ``Gamma`` (dimensionless line tension in ``convention``), exactly one.
     box, n : int
         As in ``anneal``.
     rounds : int
@@ -138,8 +139,8 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
         one sweep), so a run costs ``K * rounds * exchange_every`` moves.
     seed : int or None
         Seeds every stream of the run (module docstring); None draws one, which the result records.
-    method, tol, cluster_moves, cluster_link, bonded_moves, surface_moves, delayed_acceptance, max_iter
-        The chain of each replica, as in ``anneal``.
+    options : MonteCarloOptions or None, and its fields as keywords
+        The chain of each replica, as in ``anneal`` (the same defaults).
     quench_sweeps : int
         Sweeps at T = 0 (a descent: every move that lowers the energy is taken) of the coldest
         replica's final configuration, done on a copy so that ``state`` continues the sampling.
@@ -149,7 +150,8 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
         Continue from this state (same parameters); it is not modified.
     checkpoint : path or None
         File to resume from if it exists (same parameters) and to save the state to every
-        ``checkpoint_interval`` seconds, on interruption and at the end (atomically).
+        ``checkpoint_interval`` seconds, on interruption and at the end: a data-only archive
+        (``checkpoints``), written atomically; any other file is refused with a ``ValueError``.
     initial_sites : (n, 2) array (or (n, 3) with a sublattice) or None
         Start every replica from these sites (as ``BoxState.sites``: a finished anneal's
         configuration, to sample around it at low temperature) instead of particles at random.
@@ -157,12 +159,15 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
     record_sites : bool
         Keep, in the result's ``params["sites_by_slot"]``, the sites at every temperature after
         every round (for tests; memory ``rounds * K * n`` integers).
+    trajectory : path or None
+        Write the coldest temperature's configuration to this GSD file every
+        ``trajectory_every`` rounds (default: about 100 frames), as ``anneal`` does
+        (``configuration.step``: the round).
 
-    Bad input raises ``ValueError`` naming the parameter.
+    Bad input raises as in ``anneal``: ``TypeError`` for a non-particle or an unknown keyword,
+    ``ValueError`` naming the parameter otherwise.
     """
-    model = getattr(particle, "_kernel_model", None)
-    if model is None or not hasattr(particle, "tiling"):
-        raise ValueError(f"particle must be a particle model (Hexagon, RandomHexagon, Triangle), got {particle!r}")
+    g, box, n = box_run(particle, Gamma, g, convention, box, n)
     try:
         T = np.asarray(temperatures, dtype=float).ravel()
     except (TypeError, ValueError):
@@ -170,34 +175,19 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
     if T.size < 2 or not np.all(np.isfinite(T)) or T[0] <= 0 or np.any(np.diff(T) <= 0):
         raise ValueError(f"temperatures must be at least two positive, finite, increasing values, got {T.tolist()}")
     K = T.size
-    tiling = tiling_facts(particle.tiling)
-    box = integer("box", box, 2, 30000)
-    n = integer("n", n, 1)
-    if n >= box * box * tiling["sublattices"]:
-        raise ValueError(f"n must be smaller than the box's {box * box * tiling['sublattices']} sites, got {n}")
-    g = non_negative("g", g)
     rounds = integer("rounds", rounds, 0)
     exchange_every = n if exchange_every is None else integer("exchange_every", exchange_every, 1)
     quench_sweeps = integer("quench_sweeps", quench_sweeps, 0)
-    if method not in METHODS:
-        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
-        raise ValueError(f"tol must be positive, got {tol!r}")
+    opts = chain_options(options, option_fields)
     threads = min(K, os.cpu_count() or 1) if threads is None else integer("threads", threads, 1)
     if seed is None:
         seed = secrets.randbits(63)
     seed = integer("seed", seed, 0, 2**63 - 1)
+    writer = Trajectory.for_run(trajectory, trajectory_every, particle, box, rounds)
 
-    bond_deformation = float(particle.bulk_energy_per_particle) / tiling["bulk_bonds_per_particle"]
-    options = dict(method=method, tol=float(tol) * particle.force_scale, max_iter=integer("max_iter", max_iter, 1),
-                   delayed_acceptance=bool(delayed_acceptance), bond_deformation=bond_deformation,
-                   cluster_moves=probability("cluster_moves", cluster_moves),
-                   cluster_link=probability("cluster_link", cluster_link),
-                   bonded_moves=probability("bonded_moves", bonded_moves),
-                   surface_moves=probability("surface_moves", surface_moves))
-    signature = dict(particle=_particle_signature(particle), g=g, box=box, n=n, seed=seed,
+    signature = dict(particle=particle_signature(particle), g=g, box=box, n=n, seed=seed,
                      temperatures=hashlib.sha256(T.tobytes()).hexdigest(), exchange_every=exchange_every,
-                     **{k: v for k, v in options.items() if k != "tol"}, tol=float(tol))
+                     **opts.signature())
     if initial_sites is not None:
         try:
             initial_sites = np.ascontiguousarray(initial_sites, dtype=np.int32)
@@ -205,23 +195,21 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
             raise ValueError(f"initial_sites must be an integer array of sites, got {initial_sites!r}") from None
         signature["initial_sites"] = hashlib.sha256(initial_sites.tobytes()).hexdigest()
     replica_seeds, swap_rng = _streams(seed, K)
-    chains = [_kernel.MonteCarlo(model, g, box, n, s, **options) for s in replica_seeds]
 
     resumed = False
     if state is None and checkpoint is not None and os.path.exists(checkpoint):
-        state = _read_checkpoint(checkpoint, signature)
+        state = read_checkpoint(checkpoint, signature)
     if state is not None:
+        if not isinstance(state, ReplicaState):
+            raise ValueError(f"state must be a ReplicaState, got {type(state).__name__}")
         state = copy.deepcopy(state)
         if len(state.replicas) != K:
             raise ValueError(f"state has {len(state.replicas)} replicas, the ladder {K} temperatures")
-        for mc, saved in zip(chains, state.replicas):
-            mc.place(saved["particles"])
-            mc.rng_state = saved["rng_state"]
-            mc.set_deformation(saved["deformation"])
-            mc.counters = saved["counters"]
+        chains = [new_chain(particle, g, box, n, s, opts, state=saved) for s, saved in zip(replica_seeds, state.replicas)]
         swap_rng.bit_generator.state = state.swap_rng
         resumed = True
     else:
+        chains = [new_chain(particle, g, box, n, s, opts) for s in replica_seeds]
         if initial_sites is not None:
             try:
                 for mc in chains:
@@ -233,80 +221,72 @@ def replica_exchange(particle, g, temperatures, box=60, n=200, rounds=1000, exch
                              last_end=np.full(K, -1))
 
     def capture():
-        state.replicas = [dict(particles=np.asarray(mc.particles), rng_state=mc.rng_state, deformation=mc.deformation,
-                               counters=mc.counters) for mc in chains]
+        state.replicas = [mc.state for mc in chains]
         state.swap_rng = swap_rng.bit_generator.state
         return state
 
-    def save():
-        _write_atomically(checkpoint, dict(version=_CHECKPOINT_VERSION, signature=signature, state=capture()))
-
     sites_by_slot = []
     start = time.perf_counter()
-    from tqdm.auto import tqdm
+    if writer is not None:
+        writer.open(state.rounds)
 
-    bar = tqdm(total=rounds, initial=min(state.rounds, rounds), disable=not progress, unit="round",
-               desc=f"replica exchange K={K} n={n} box={box}", leave=False)
-    last_save = time.monotonic()
+    def advance(pool):
+        def one_round(done):
+            slot = state.slot_of_replica
+            jobs = [pool.submit(mc.run, np.array([T[slot[k]]]), np.array([exchange_every], np.int64))
+                    for k, mc in enumerate(chains)]
+            for job in jobs:
+                job.result()
+            energy = np.array([mc.energy for mc in chains])
+            replica_at = np.argsort(slot)  # replica holding each temperature
+            first = state.rounds % 2
+            for s in range(first, K - 1, 2):
+                a, b = replica_at[s], replica_at[s + 1]
+                log_ratio = (1.0 / T[s] - 1.0 / T[s + 1]) * (energy[a] - energy[b])
+                state.swaps_attempted[s] += 1
+                # A deviate per offer whatever the energies, so that round-off in an energy
+                # can never shift the swap stream.
+                u = swap_rng.random()
+                if log_ratio >= 0 or u < math.exp(log_ratio):
+                    slot[a], slot[b] = s + 1, s
+                    replica_at[s], replica_at[s + 1] = b, a
+                    state.swaps_accepted[s] += 1
+            for k in range(K):
+                if slot[k] == 0 and state.last_end[k] == K - 1:
+                    state.round_trips += 1
+                if slot[k] in (0, K - 1):
+                    state.last_end[k] = slot[k]
+            state.energy.append(energy[replica_at])
+            cold = replica_at[0]
+            if energy[cold] < state.best_energy:
+                state.best_energy, state.best_sites = float(energy[cold]), np.asarray(chains[cold].particles)
+            if record_sites:
+                sites_by_slot.append([_sorted_sites(chains[r]) for r in replica_at])
+            state.rounds += 1
+            if writer is not None and state.rounds % writer.every == 0:
+                writer.write(state.rounds, chains[cold].particles, float(energy[cold]), float(T[0]))
+            return state.rounds, dict(E_cold=f"{energy[cold]:.5g}")
+        return one_round
+
     try:
         with ThreadPoolExecutor(max_workers=threads) as pool:
-            while state.rounds < rounds:
-                slot = state.slot_of_replica
-                jobs = [pool.submit(mc.run, np.array([T[slot[k]]]), np.array([exchange_every], np.int64))
-                        for k, mc in enumerate(chains)]
-                for job in jobs:
-                    job.result()
-                energy = np.array([mc.energy for mc in chains])
-                replica_at = np.argsort(slot)  # replica holding each temperature
-                first = state.rounds % 2
-                for s in range(first, K - 1, 2):
-                    a, b = replica_at[s], replica_at[s + 1]
-                    log_ratio = (1.0 / T[s] - 1.0 / T[s + 1]) * (energy[a] - energy[b])
-                    state.swaps_attempted[s] += 1
-                    # A deviate per offer whatever the energies, so that round-off in an energy
-                    # can never shift the swap stream.
-                    u = swap_rng.random()
-                    if log_ratio >= 0 or u < math.exp(log_ratio):
-                        slot[a], slot[b] = s + 1, s
-                        replica_at[s], replica_at[s + 1] = b, a
-                        state.swaps_accepted[s] += 1
-                for k in range(K):
-                    if slot[k] == 0 and state.last_end[k] == K - 1:
-                        state.round_trips += 1
-                    if slot[k] in (0, K - 1):
-                        state.last_end[k] = slot[k]
-                state.energy.append(energy[replica_at])
-                cold = replica_at[0]
-                if energy[cold] < state.best_energy:
-                    state.best_energy, state.best_sites = float(energy[cold]), np.asarray(chains[cold].particles)
-                if record_sites:
-                    sites_by_slot.append([_sorted_sites(chains[r]) for r in replica_at])
-                state.rounds += 1
-                bar.update(1)
-                bar.set_postfix(E_cold=f"{energy[cold]:.5g}", refresh=False)
-                if checkpoint is not None and time.monotonic() - last_save >= checkpoint_interval:
-                    save()
-                    last_save = time.monotonic()
-    except BaseException:
-        if checkpoint is not None:
-            save()
-        raise
+            drive(state.rounds, rounds, advance(pool), lambda: _save(checkpoint, signature, capture()),
+                  checkpoint=checkpoint, checkpoint_interval=checkpoint_interval, progress=progress,
+                  desc=f"replica exchange K={K} n={n} box={box}", unit="round")
     finally:
-        bar.close()
+        if writer is not None:
+            writer.close()
     final = copy.deepcopy(capture())
-    if checkpoint is not None:
-        save()
 
-    # The coldest configuration, quenched on a fresh chain (the sampling state is left as is).
+    # The coldest configuration, quenched on a chain continuing its state (the sampling state is
+    # left as is).
     cold = int(np.argsort(state.slot_of_replica)[0])
-    quench = _kernel.MonteCarlo(model, g, box, n, replica_seeds[cold], **options)
-    quench.place(final.replicas[cold]["particles"])
-    quench.set_deformation(final.replicas[cold]["deformation"])
+    quench = new_chain(particle, g, box, n, replica_seeds[cold], opts, state=final.replicas[cold])
     if quench_sweeps:
         quench.run(np.zeros(quench_sweeps), np.full(quench_sweeps, n, np.int64))
     counters: dict[str, int] = {}
     for r in final.replicas:
-        for key, value in r["counters"].items():
+        for key, value in r.counters.items():
             counters[key] = counters.get(key, 0) + value
     with np.errstate(invalid="ignore", divide="ignore"):
         acceptance = final.swaps_accepted / final.swaps_attempted
@@ -328,14 +308,30 @@ def _sorted_sites(mc) -> np.ndarray:
     return np.asarray(mc.run(np.zeros(1), np.zeros(1, np.int64), True)["sites"][0])
 
 
-def _read_checkpoint(path, signature) -> ReplicaState:
-    with open(path, "rb") as f:
-        data = pickle.load(f)
-    if not isinstance(data, dict) or data.get("version") != _CHECKPOINT_VERSION or "state" not in data:
-        raise ValueError(f"checkpoint: {path} is not a replica-exchange checkpoint (version {_CHECKPOINT_VERSION})")
-    saved = dict(data["signature"])
-    saved.setdefault("cluster_link", 1.0)  # checkpoints written before linked cluster moves
-    saved.setdefault("bonded_moves", 0.0)  # ... and before bonded particle moves
-    saved.setdefault("surface_moves", 0.0)  # ... and before surface moves
-    _check_signature(path, saved, signature)
-    return data["state"]
+def _save(path, signature, state: ReplicaState) -> None:
+    no_sites = np.zeros((0, state.replicas[0].particles.shape[1]), np.int32)
+    save(path, "replica_exchange", signature, state.replicas,
+         dict(swap_rng=state.swap_rng, rounds=state.rounds, best_energy=state.best_energy, round_trips=state.round_trips),
+         dict(slot_of_replica=state.slot_of_replica, energy=np.asarray(state.energy, float).reshape(-1, len(state.replicas)),
+              swaps_attempted=state.swaps_attempted, swaps_accepted=state.swaps_accepted, last_end=state.last_end,
+              best_sites=no_sites if state.best_sites is None else state.best_sites))
+
+
+def read_checkpoint(path, signature=None) -> ReplicaState:
+    """The ``ReplicaState`` a ``replica_exchange`` checkpoint holds; with ``signature``, refused
+    when it was written by a run with other parameters. Any file that is not such a checkpoint
+    is refused with a ``ValueError`` naming it (``checkpoints``)."""
+    metadata, arrays = read_checkpoint_file(path, "replica_exchange", signature)
+    replicas = chain_states_from_disk(path, metadata, arrays)
+    try:
+        best_sites = arrays["best_sites"]
+        return ReplicaState(replicas=replicas, slot_of_replica=np.asarray(arrays["slot_of_replica"], np.int64),
+                            swap_rng=dict(metadata["swap_rng"]), rounds=int(metadata["rounds"]),
+                            energy=list(np.asarray(arrays["energy"], float)),
+                            swaps_attempted=np.asarray(arrays["swaps_attempted"], np.int64),
+                            swaps_accepted=np.asarray(arrays["swaps_accepted"], np.int64),
+                            best_energy=float(metadata["best_energy"]), best_sites=best_sites if len(best_sites) else None,
+                            round_trips=int(metadata["round_trips"]), last_end=np.asarray(arrays["last_end"], np.int64))
+    except (KeyError, TypeError, ValueError) as e:
+        raise ValueError(f"checkpoint: {path!r} holds an incomplete replica-exchange state ({type(e).__name__}: {e}); "
+                         "delete it or pass another checkpoint path to start the run afresh") from None

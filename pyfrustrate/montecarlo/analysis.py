@@ -1,0 +1,119 @@
+"""What a Monte Carlo configuration holds: its clusters (found by the kernel's search, the one the
+chain itself uses: ``_kernel.box_clusters``, kernel/box.hpp), the kind of its largest aggregate
+for phase diagrams, and ``BoxState``, the final configuration every run returns."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import _kernel
+from .._checks import integer
+from ..topology import neighbour_sites, site_columns, site_positions, tiling_facts
+
+__all__ = ["BoxState", "clusters", "classify_aggregate", "largest_cluster_extent", "ELONGATION_THRESHOLD",
+           "OPEN_NETWORK_BONDS"]
+
+#: Gyration anisotropy sqrt(l1 / l2) above which a finite aggregate counts as elongated.
+ELONGATION_THRESHOLD = 1.6
+#: Bonds per particle, as a fraction of the bulk's, below which a large aggregate counts as an
+#: open network (hexagons: 1.5 of 3 in the honeycomb pattern, about 2.5 in a compact disk of 100).
+OPEN_NETWORK_BONDS = 2.0 / 3.0
+
+
+def box_sites(sites, box: int, tiling: str) -> np.ndarray:
+    """Sites of a box state as an (n, columns) integer array, or ValueError naming ``sites``:
+    reshaping any array into columns would make sites of garbage."""
+    columns = site_columns(tiling)
+    a = np.asarray(sites)
+    if a.size == 0:
+        return np.zeros((0, columns), np.int32)
+    if a.ndim != 2 or a.shape[1] != columns:
+        raise ValueError(f"sites must have shape (n, {columns}) for the {tiling} tiling, got {a.shape}")
+    if a.dtype.kind not in "iu" and not (a.dtype.kind == "f" and np.all(np.isfinite(a)) and np.all(a == np.round(a))):
+        raise ValueError("sites must be integer lattice coordinates")
+    return a.astype(np.int64)
+
+
+def clusters(sites, box, tiling="hexagon") -> list[tuple[np.ndarray, int]]:
+    """Connected clusters of occupied sites in the periodic ``box`` (edge neighbours of the tiling).
+
+    Returns ``(coords, rank)`` pairs, largest cluster first (ties in the order of their first
+    site in ``sites``): ``coords`` (k, 2) or (k, 3) are unwrapped sites (a breadth-first search
+    from the cluster's first site, so neighbours are one lattice step apart), ``rank`` is 0 for a
+    finite cluster, 1 if it wraps around the box in one direction, 2 in two. The kernel's search
+    (the one the Monte Carlo chain uses); a site held twice (modulo the box) raises ValueError.
+    """
+    box = integer("box", box, 1, 30000)
+    a = box_sites(sites, box, tiling)
+    a[:, :2] %= box
+    if len(a) == 0:
+        return []
+    return [(np.asarray(coords, np.int64), int(rank))
+            for coords, rank in _kernel.box_clusters(tiling, box, a.astype(np.int32))]
+
+
+def classify_aggregate(sites, box, tiling="hexagon") -> tuple[str, int]:
+    """Kind of the largest aggregate of a Monte Carlo state, for phase diagrams: ``'bulk'``
+    (wraps the box both ways), ``'fiber'`` (wraps one way, or finite and elongated: gyration
+    anisotropy above ``ELONGATION_THRESHOLD``), ``'bulk_with_holes'`` (fewer than
+    ``OPEN_NETWORK_BONDS`` times the bulk's bonds per particle), ``'disk'`` (compact), or ``'gas'``
+    (largest cluster of fewer than 3 particles). Returns ``(kind, size of the largest cluster)``.
+
+    A heuristic with the limits of a finite box: an aggregate narrower than the optimal fibre
+    width but too short to show it (few particles) reads as a disk.
+    """
+    found = clusters(sites, box, tiling)
+    if not found:
+        raise ValueError("sites: no particle to classify")
+    coords, rank = found[0]
+    size = len(coords)
+    if size < 3:
+        return "gas", size
+    if rank == 2:
+        return "bulk", size
+    if rank == 1:
+        return "fiber", size
+    members = {tuple(c) for c in coords.tolist()}
+    bonds = sum(v in members for c in coords.tolist() for v in neighbour_sites(c, tiling)) / 2
+    if bonds / size < OPEN_NETWORK_BONDS * tiling_facts(tiling)["bulk_bonds_per_particle"]:
+        return "bulk_with_holes", size
+    xy = site_positions(coords, tiling)
+    eigen = np.linalg.eigvalsh(np.cov(xy.T))
+    return ("fiber" if np.sqrt(eigen[1] / max(eigen[0], 1e-12)) > ELONGATION_THRESHOLD else "disk"), size
+
+
+def placed(coords, box):
+    """Unwrapped cluster sites shifted by whole boxes so that their centre lies in the box (where
+    ``draw_snapshot`` draws them)."""
+    coords = coords.copy()
+    coords[:, :2] -= np.floor(coords[:, :2].mean(axis=0) / box).astype(int) * box
+    return coords
+
+
+def largest_cluster_extent(sites, box, tiling="hexagon") -> tuple[np.ndarray, np.ndarray]:
+    """Lower-left and upper-right corners of the site centres of the largest cluster, as
+    ``draw_snapshot`` places it: the window to centre a snapshot panel on."""
+    coords, _ = clusters(sites, box, tiling)[0]
+    xy = site_positions(placed(coords, box), tiling)
+    return xy.min(axis=0), xy.max(axis=0)
+
+
+@dataclass
+class BoxState:
+    """A final configuration of the periodic box, shared by ``AnnealResult`` and
+    ``ReplicaExchangeResult``: ``sites`` (n, 2) (or (n, 3)), ``box``, ``n``, ``g``,
+    ``energy = -g * bonds + deformation``, ``bonds`` and ``deformation``."""
+
+    sites: np.ndarray = field(repr=False)
+    box: int
+    n: int
+    g: float
+    energy: float
+    bonds: int
+    deformation: float
+
+    def clusters(self) -> list[np.ndarray]:
+        """Final clusters, largest first: unwrapped sites, each shape (k, 2) (or (k, 3) for tilings
+        with several sublattices)."""
+        return [c for c, _ in clusters(self.sites, self.box, getattr(self, "tiling", "hexagon"))]

@@ -1,0 +1,114 @@
+"""Trajectories of Monte Carlo runs as GSD files (HOOMD-blue's format, read by OVITO and freud).
+
+Each frame holds the occupied lattice sites as particles: ``particles.position`` their centres
+(the site positions of ``topology.site_positions``, wrapped into the box centred on the origin,
+z = 0), ``particles.typeid`` the sublattice (``types``: ``["hexagon"]``, or ``["up", "down"]``
+triangles), ``configuration.box`` the periodic box of ``box x box`` cells as HOOMD's triclinic box
+``[Lx, Ly, Lz, xy, xz, yz] = [L, L sqrt(3)/2, 1, 1/sqrt(3), 0, 0]`` (``dimensions = 2``),
+``configuration.step`` the attempted moves done (an exchange: rounds), and ``log`` the energy
+(``pyfrustrate/energy``, in the particle's spring units) and the temperature
+(``pyfrustrate/temperature``).
+"""
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from .._checks import integer
+from ..io import atomic_path
+from ..topology import site_positions, tiling_facts
+
+__all__ = ["Trajectory", "hoomd_box", "TYPES"]
+
+TYPES = {"hexagon": ["hexagon"], "triangle": ["up", "down"]}
+
+
+def hoomd_box(box: int) -> list[float]:
+    """HOOMD's ``[Lx, Ly, Lz, xy, xz, yz]`` of the periodic box of ``box x box`` cells spanned by
+    ``box a1 = (box, 0)`` and ``box a2 = (box/2, box sqrt(3)/2)``; Lz = 1 for a 2D box."""
+    return [float(box), box * math.sqrt(3) / 2, 1.0, 1 / math.sqrt(3), 0.0, 0.0]
+
+
+class Trajectory:
+    """Writes the frames of one run to ``path`` every ``every`` record units."""
+
+    def __init__(self, path, every: int, particle, box: int):
+        self.path, self.every, self.box = os.fspath(path), integer("trajectory_every", every, 1), box
+        self.tiling = particle.tiling
+        self.types = TYPES[self.tiling]
+        self.sublattices = tiling_facts(self.tiling)["sublattices"]
+        self._file = None
+
+    @classmethod
+    def for_run(cls, path, every, particle, box: int, units: int):
+        """A writer for a run of ``units`` record units, or None without ``path``; by default
+        about 100 frames over the run."""
+        if path is None:
+            return None
+        return cls(path, max(1, units // 100) if every is None else every, particle, box)
+
+    def open(self, resume_step: int) -> None:
+        """Starts the file, or continues it after ``resume_step`` (frames written later by an
+        interrupted run, beyond its checkpoint, are dropped)."""
+        import gsd.hoomd
+
+        if resume_step > 0 and os.path.exists(self.path):
+            with gsd.hoomd.open(self.path, "r") as old:
+                kept = [frame for frame in old if frame.configuration.step <= resume_step]
+            with atomic_path(self.path) as tmp, gsd.hoomd.open(tmp, "w") as f:
+                for frame in kept:
+                    f.append(frame)
+            self._file = gsd.hoomd.open(self.path, "a")
+        else:
+            self._file = gsd.hoomd.open(self.path, "w")
+
+    def close(self) -> None:
+        if self._file is not None:
+            self._file.close()
+            self._file = None
+
+    def positions(self, coords) -> np.ndarray:
+        """(n, 3) float32 centres of the sites ``coords`` ((n, 2) or (n, 3) lattice coordinates),
+        wrapped into the box centred on the origin."""
+        coords = np.asarray(coords)
+        xy = site_positions(coords, self.tiling)
+        # Fractions of the box vectors (box a1, box a2), wrapped into [-1/2, 1/2).
+        basis = self.box * np.array([[1.0, 0.5], [0.0, math.sqrt(3) / 2]])
+        fractions = np.linalg.solve(basis, xy.T).T
+        fractions -= np.floor(fractions + 0.5)
+        out = np.zeros((len(coords), 3), np.float32)
+        out[:, :2] = fractions @ basis.T
+        return out
+
+    def write(self, step: int, coords, energy: float, temperature: float) -> None:
+        """One frame: the occupied sites ``coords`` after ``step``."""
+        import gsd.hoomd
+
+        coords = np.asarray(coords)
+        frame = gsd.hoomd.Frame()
+        frame.configuration.step = int(step)
+        frame.configuration.dimensions = 2
+        frame.configuration.box = hoomd_box(self.box)
+        frame.particles.N = len(coords)
+        frame.particles.types = self.types
+        frame.particles.position = self.positions(coords)
+        frame.particles.typeid = (coords[:, 2] if coords.shape[1] == 3 else np.zeros(len(coords))).astype(np.uint32)
+        frame.log["pyfrustrate/energy"] = np.array([energy], np.float64)
+        frame.log["pyfrustrate/temperature"] = np.array([temperature], np.float64)
+        if self._file is None:
+            raise RuntimeError("trajectory: write before open")
+        self._file.append(frame)
+
+    def write_blocks(self, site_indices, steps, energies, temperatures, first_block: int) -> None:
+        """Frames of the blocks (numbered from ``first_block``) whose number + 1 is a multiple of
+        ``every``, from the kernel's sorted site indices (``sublattice + S (i + L j)``)."""
+        S, L = self.sublattices, self.box
+        for k in range(len(steps)):
+            if (first_block + k + 1) % self.every:
+                continue
+            s = np.asarray(site_indices[k])
+            cell = s // S
+            coords = np.column_stack([cell % L, cell // L] + ([s % S] if S > 1 else []))
+            self.write(int(steps[k]), coords, float(energies[k]), float(temperatures[k]))

@@ -1,0 +1,131 @@
+"""An independent Monte Carlo chain in Python on the kernel's exact energies, for the tests that
+show the exact-enumeration checks can fail (tests/test_montecarlo_rules.py).
+
+The moves are written again from their definitions (``kernel/montecarlo`` and the docstring of
+``pyfrustrate.anneal``): a particle to a random empty site; a surface move (a random particle
+with an empty neighbour to a random empty site with an occupied neighbour, Hastings ratio
+``n_s n_p / (n_s' n_p')``); a linked cluster move (a set grown by following each bond with
+probability ``link``, shifted by a random cell vector, Hastings factor ``(1 - link)**(b' - b)``).
+Plain Metropolis-Hastings, hexagon tiling, sites numbered ``i + box j`` as ``enumerate_states``
+numbers them. ``wrong`` names one deliberately wrong rule:
+
+``"double_deformation"``  the deformation part of the energy change counted twice;
+``"link_p"``              ``link**(b' - b)`` in place of ``(1 - link)**(b' - b)``;
+``"no_surface_ratio"``    surface moves accepted without their Hastings ratio.
+
+A chain with the right rules must sample the exact Boltzmann weights; with a wrong one, it must
+not, by the same statistic and at the same sample size as the kernel's test.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pyfrustrate import topology as T
+
+NEIGHBOURS = [tuple(int(x) for x in d) for d in T.NEIGHBOURS]
+WRONG_RULES = ("double_deformation", "link_p", "no_surface_ratio")
+
+
+def bonds_of(state, box):
+    """Bound pairs of sides of a state (a tuple of site numbers) on the torus."""
+    occupied = set(state)
+    return sum(((k % box + di) % box) + box * ((k // box + dj) % box) in occupied
+               for k in state for di, dj in NEIGHBOURS) // 2
+
+
+class ReferenceChain:
+    """Metropolis-Hastings over the enumerated ``states`` with energies ``E`` (``bonds`` per state,
+    so that ``E + g bonds`` is the deformation part)."""
+
+    def __init__(self, states, E, g, box, *, surface_moves=0.0, cluster_moves=0.0, link=1.0, wrong=None, seed=0):
+        if wrong not in (None,) + WRONG_RULES:
+            raise ValueError(f"wrong must be one of {WRONG_RULES} or None, got {wrong!r}")
+        self.index = {s: k for k, s in enumerate(states)}
+        self.E = np.asarray(E, float)
+        self.deformation = self.E + g * np.array([bonds_of(s, box) for s in states])
+        self.box, self.g = box, g
+        self.surface_moves, self.cluster_moves, self.link, self.wrong = surface_moves, cluster_moves, link, wrong
+        self.rng = np.random.default_rng(seed)
+        self.neighbours = [[((k % box + di) % box) + box * ((k // box + dj) % box) for di, dj in NEIGHBOURS]
+                           for k in range(box * box)]
+
+    def _accept(self, old, new, log_hastings, T_):
+        delta = self.E[new] - self.E[old]
+        if self.wrong == "double_deformation":
+            delta += self.deformation[new] - self.deformation[old]
+        log_ratio = -delta / T_ + log_hastings
+        return log_ratio >= 0 or self.rng.random() < math.exp(log_ratio)
+
+    def _occupied_neighbours(self, site, occupied):
+        return sum(u in occupied for u in self.neighbours[site])
+
+    def _particle_proposal(self, occupied):
+        a = sorted(occupied)[self.rng.integers(len(occupied))]
+        empty = [s for s in range(self.box * self.box) if s not in occupied]
+        return a, empty[self.rng.integers(len(empty))], 0.0
+
+    def _exposed(self, occupied):
+        D = len(NEIGHBOURS)
+        surface = sorted(s for s in occupied if self._occupied_neighbours(s, occupied) < D)
+        perimeter = sorted({u for s in occupied for u in self.neighbours[s] if u not in occupied})
+        return surface, perimeter
+
+    def _surface_proposal(self, occupied):
+        surface, perimeter = self._exposed(occupied)
+        a, b = surface[self.rng.integers(len(surface))], perimeter[self.rng.integers(len(perimeter))]
+        after = (occupied - {a}) | {b}
+        # The reverse move exists iff a keeps an occupied neighbour and b has an empty one.
+        if self._occupied_neighbours(a, after) == 0 or self._occupied_neighbours(b, after) == len(NEIGHBOURS):
+            return None
+        surface_after, perimeter_after = self._exposed(after)
+        log_ratio = math.log(len(surface) * len(perimeter) / (len(surface_after) * len(perimeter_after)))
+        return a, b, 0.0 if self.wrong == "no_surface_ratio" else log_ratio
+
+    def _cluster_proposal(self, occupied):
+        a = sorted(occupied)[self.rng.integers(len(occupied))]
+        shift = (int(self.rng.integers(self.box)), int(self.rng.integers(self.box)))
+        if shift == (0, 0):
+            return None
+        grown, queue = {a}, [a]
+        for s in queue:  # every bond from the set to the rest tested once
+            for u in self.neighbours[s]:
+                if u in occupied and u not in grown and self.rng.random() < self.link:
+                    grown.add(u)
+                    queue.append(u)
+        rest = occupied - grown
+        moved = {((s % self.box + shift[0]) % self.box) + self.box * ((s // self.box + shift[1]) % self.box)
+                 for s in grown}
+        if moved & rest:
+            return None
+        before = sum(u in rest for s in grown for u in self.neighbours[s])
+        after = sum(u in rest for s in moved for u in self.neighbours[s])
+        factor = self.link if self.wrong == "link_p" else 1.0 - self.link
+        if after != before and factor == 0:
+            return None
+        return rest | moved, (after - before) * math.log(factor) if after != before else 0.0
+
+    def run(self, start, T_, samples):
+        """The state index after each of ``samples`` attempted moves at temperature ``T_``."""
+        occupied = set(start)
+        current = self.index[tuple(sorted(occupied))]
+        visited = np.empty(samples, np.int64)
+        for step in range(samples):
+            u = self.rng.random()
+            if u < self.cluster_moves:
+                proposal = self._cluster_proposal(occupied)
+                new_occupied, log_hastings = proposal if proposal else (None, 0.0)
+            else:
+                proposal = (self._surface_proposal(occupied) if self.rng.random() < self.surface_moves
+                            else self._particle_proposal(occupied))
+                new_occupied, log_hastings = None, 0.0
+                if proposal:
+                    a, b, log_hastings = proposal
+                    new_occupied = (occupied - {a}) | {b}
+            if new_occupied is not None:
+                new = self.index[tuple(sorted(new_occupied))]
+                if self._accept(current, new, log_hastings, T_):
+                    occupied, current = new_occupied, new
+            visited[step] = current
+        return visited
