@@ -25,6 +25,9 @@ inline void export_relaxed_cluster(pybind11::module_& m) {
                                "Nonzeros of the factor L.")
         .def_property_readonly("fresh_nonzeros", [](const RelaxedCluster& c) { return c.fresh_nonzeros; },
                                "Nonzeros of L when it was last made from scratch.");
+    m.def("rigid_pieces", &rigid_pieces, py::arg("topology"),
+          "How many rigidly joined pieces (particles sharing a side) a finite topology falls into; 1 for a "
+          "periodic cell.");
 }
 
 template <class Model>

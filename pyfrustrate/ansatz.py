@@ -19,8 +19,8 @@ from typing import Any
 
 import numpy as np
 
-from . import _checks, continuum, topology
-from .relaxation import _connected_parts, relax
+from . import _checks, _kernel, continuum, topology
+from .relaxation import relax
 
 #: Aggregate kind of each candidate family, for the diagrams' colour code.
 FAMILY_PHASE = {
@@ -619,7 +619,7 @@ def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", to
         for segment in segments:
             sites = topology.stadium_sites(n, segment, faceted=faceted, tiling=tiling)
             cluster = topology.cluster(sites, tiling=tiling)
-            if _connected_parts(cluster) > 1:
+            if _kernel.rigid_pieces(cluster.kernel) > 1:
                 continue  # a strip thinner than a row of triangles breaks up: no single aggregate
             r = relax(particle, cluster, method=method, tol=tol, **kwargs)
             shapes.append(sites)

@@ -573,12 +573,9 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False, tiling: s
     affordable(f"stadium_sites(n={n}, segment={segment:g})",
                sublattices * (4 * half + 1) ** 2 * GRID_BYTES_PER_CELL["stadium_sites"])
     r = np.arange(-2 * half, 2 * half + 1)
-    if sublattices > 1:
-        i, j, s = np.meshgrid(r, r, np.arange(sublattices), indexing="ij")
-        sites = np.column_stack([i.ravel(), j.ravel(), s.ravel()])
-    else:
-        i, j = np.meshgrid(r, r, indexing="ij")
-        sites = np.column_stack([i.ravel(), j.ravel()])
+    # One column per lattice coordinate, and the sublattice on tilings with several (triangles).
+    axes = [r, r] + ([np.arange(sublattices)] if sublattices > 1 else [])
+    sites = np.column_stack([a.ravel() for a in np.meshgrid(*axes, indexing="ij")])
     xy = site_positions(sites, tiling)
     across, along = np.abs(xy[:, 1]), np.abs(xy[:, 0] - np.clip(xy[:, 0], -segment / 2, segment / 2))
     if faceted:
