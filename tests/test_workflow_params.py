@@ -85,7 +85,8 @@ def _rerun_by_params(work: Path, configfile: Path) -> tuple[set[str], set[str]]:
         (["montecarlo"], "dense_sweeps", ["results/montecarlo/runs/dense_*"]),
         (["montecarlo"], "tol", ["results/montecarlo/runs/*"]),
         (["montecarlo"], "exchange_Gamma_min", ["results/montecarlo/runs/sparse_*"]),
-        (["montecarlo"], "finite_Gamma_count", ["results/montecarlo/finite/*"]),
+        # The triangle's finite-size predictions (Fig. S6) use the same Gamma grid.
+        (["montecarlo"], "finite_Gamma_count", ["results/montecarlo/finite/*", "results/triangle/finite/*"]),
         (["triangle", "montecarlo"], "sweeps", ["results/triangle/runs/sparse_*"]),
         (["random"], "fits", ["results/random/fits.npz"]),
         (["ansatz"], "edge_nu", ["results/ansatz/line_tension.json"]),
