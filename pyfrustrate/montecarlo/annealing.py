@@ -463,7 +463,7 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
     >>> result = anneal(particle, Gamma=0.5, box=6, n=10, steps=200, seed=1, progress=False)
     >>> round(result.g, 8)  # Gamma=0.5 as a binding energy per bond, spring units
     0.00781588
-    >>> result.sites.shape, len(result.energy_trace), result.steps[-1]
+    >>> result.sites.shape, len(result.energy_trace), int(result.steps[-1])
     ((10, 2), 20, 200)
     >>> bool(abs(result.energy - (-result.g * result.bonds + result.deformation)) < 1e-12)
     True
