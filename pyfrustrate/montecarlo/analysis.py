@@ -1,6 +1,9 @@
-"""What a Monte Carlo configuration holds: its clusters (found by the kernel's search, the one the
-chain itself uses: ``_kernel.box_clusters``, kernel/box.hpp), the kind of its largest aggregate
-for phase diagrams, and ``BoxState``, the final configuration every run returns."""
+"""What a Monte Carlo configuration holds: its clusters, the kind of its largest aggregate.
+
+Clusters are found by the kernel's search, the one the chain itself uses
+(``_kernel.box_clusters``, kernel/box.hpp); the kind of the largest aggregate feeds phase
+diagrams; ``BoxState`` is the final configuration every run returns.
+"""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -22,7 +25,7 @@ OPEN_NETWORK_BONDS = 2.0 / 3.0
 
 
 def box_sites(sites, box: int, tiling: str) -> np.ndarray:
-    """Sites of a box state as an (n, columns) integer array.
+    """Return the sites of a box state as an (n, columns) integer array.
 
     Parameters
     ----------
@@ -195,8 +198,10 @@ def largest_cluster_extent(sites, box, tiling="hexagon") -> tuple[np.ndarray, np
 
     Returns
     -------
-    lower, upper : ndarray, shape (2,)
-        Lower-left and upper-right corners of its site centres, Cartesian, in lattice spacings.
+    lower : ndarray, shape (2,)
+        Lower-left corner of its site centres, Cartesian, in lattice spacings.
+    upper : ndarray, shape (2,)
+        Upper-right corner.
     """
     coords, _ = clusters(sites, box, tiling)[0]
     xy = site_positions(placed(coords, box), tiling)

@@ -1,5 +1,6 @@
-"""Monte Carlo annealing of aggregate topologies (main text, "Monte-Carlo validation of the phase
-diagram"; the snapshots of Fig. 3b).
+"""Monte Carlo annealing of aggregate topologies.
+
+Main text, "Monte-Carlo validation of the phase diagram"; the snapshots of Fig. 3b.
 
 ``n`` particles occupy distinct sites of a periodic ``box x box`` patch of cells of the particle's
 tiling (cell ``(i, j)`` at ``i a1 + j a2``, ``i, j`` modulo ``box``): ``box**2`` sites for hexagons,
@@ -184,8 +185,10 @@ class AnnealResult(BoxState):
 
     @property
     def cache_hit_rate(self) -> float:
-        """Fraction of cluster energies taken from the cache (isolated particles excluded); nan
-        when no cluster was relaxed."""
+        """Fraction of cluster energies taken from the cache (isolated particles excluded).
+
+        Nan when no cluster was relaxed.
+        """
         c = self.counters
         total = c["cache_hits"] + c["cache_misses"]
         return c["cache_hits"] / total if total else float("nan")
@@ -408,14 +411,14 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
         finished checkpoint is returned as is.
     progress : bool
         Show a tqdm progress bar.
-    checkpoint_interval : float
-        Seconds between checkpoint saves (with ``checkpoint``).
     T0, T_end : float
         Start temperature (default ``g``, or the bulk energy per particle when ``g = 0``) and the
         geometric schedule's last non-zero one (default ``T0 / 1000``), in energy units (the
         particle's springs, as ``g``).
     record_every : int
         Attempted moves per record block (default ``n``, one sweep).
+    checkpoint_interval : float
+        Seconds between checkpoint saves (with ``checkpoint``).
     callback : callable or None
         Called after every chunk of blocks as ``callback(steps_done, total_steps, energy)``; an
         exception raised there stops the run after saving the checkpoint.

@@ -1,5 +1,8 @@
-"""Drawing a Monte Carlo configuration: every particle as a polygon at its lattice site, one colour
-per cluster, each cluster unwrapped across the periodic boundary (relaxed shapes on request)."""
+"""Drawing a Monte Carlo configuration, one colour per cluster.
+
+Every particle is a polygon at its lattice site, each cluster unwrapped across the periodic
+boundary (relaxed shapes on request).
+"""
 from __future__ import annotations
 
 import numpy as np

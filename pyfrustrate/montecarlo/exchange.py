@@ -245,13 +245,13 @@ def replica_exchange(particle, temperatures, *, g=None, Gamma=None, convention="
         Seconds between checkpoint saves (with ``checkpoint``).
     progress : bool
         Show a tqdm progress bar.
+    record_sites : bool
+        Keep, in the result's ``params["sites_by_slot"]``, the sites at every temperature after
+        every round (for tests; memory ``rounds * K * n`` integers).
     initial_sites : (n, 2) array (or (n, 3) with a sublattice) or None
         Start every replica from these sites (as ``BoxState.sites``: a finished anneal's
         configuration, to sample around it at low temperature) instead of particles at random.
         Ignored when resuming. Part of the checkpoint's parameters.
-    record_sites : bool
-        Keep, in the result's ``params["sites_by_slot"]``, the sites at every temperature after
-        every round (for tests; memory ``rounds * K * n`` integers).
     trajectory : path or None
         Write the coldest temperature's configuration to this GSD file every
         ``trajectory_every`` rounds (default: about 100 frames), as ``anneal`` does

@@ -49,7 +49,7 @@ def hoomd_box(box: int) -> list[float]:
 
 
 class Trajectory:
-    """Writes the frames of one run to ``path`` every ``every`` record units.
+    """Write the frames of one run to ``path`` every ``every`` record units.
 
     Parameters
     ----------
@@ -102,7 +102,7 @@ class Trajectory:
         return cls(path, max(1, units // 100) if every is None else every, particle, box)
 
     def open(self, resume_step: int) -> None:
-        """Starts the file, or continues it after ``resume_step``.
+        """Start the file, or continue it after ``resume_step``.
 
         Parameters
         ----------
@@ -129,7 +129,7 @@ class Trajectory:
             self._file = None
 
     def positions(self, coords) -> np.ndarray:
-        """Centres of the sites ``coords``, wrapped into the box centred on the origin.
+        """Return the centres of the sites ``coords``, wrapped into the box centred on the origin.
 
         Parameters
         ----------
@@ -188,7 +188,7 @@ class Trajectory:
         self._file.append(frame)
 
     def write_blocks(self, site_indices, steps, energies, temperatures, first_block: int) -> None:
-        """Frames of the blocks whose number + 1 is a multiple of ``every``.
+        """Write the frames of the blocks whose number + 1 is a multiple of ``every``.
 
         Parameters
         ----------
