@@ -184,7 +184,7 @@ def figure(width_cm: float = PAGE_WIDTH_CM, height_cm: float = 8.0, **kwargs):
     --------
     >>> from pyfrustrate import plotting
     >>> fig = plotting.figure(plotting.COLUMN_WIDTH_CM, 5.0)
-    >>> [round(x * 2.54, 2) for x in fig.get_size_inches()]
+    >>> [round(float(x) * 2.54, 2) for x in fig.get_size_inches()]
     [8.6, 5.0]
     """
     if width_cm not in (COLUMN_WIDTH_CM, PAGE_WIDTH_CM):
@@ -298,7 +298,7 @@ def draw_hexagons(ax, corners, values=None, cmap="viridis", norm=None, edgecolor
     >>> corners = relaxation.particle_corners(particle, aggregate, result.state)
     >>> fig, ax = plt.subplots()
     >>> hexagons = draw_hexagons(ax, corners, values=relaxation.particle_energies(particle, aggregate, result.state))
-    >>> len(hexagons.get_paths()) == aggregate.n
+    >>> len(hexagons.get_paths()) == aggregate.n_particles
     True
     """
     polys = PolyCollection(np.asarray(corners), edgecolors=edgecolor, linewidths=linewidth, **kwargs)
