@@ -202,6 +202,13 @@ def largest_cluster_extent(sites, box, tiling="hexagon") -> tuple[np.ndarray, np
         Lower-left corner of its site centres, Cartesian, in lattice spacings.
     upper : ndarray, shape (2,)
         Upper-right corner.
+
+    Raises
+    ------
+    ValueError
+        Bad ``sites`` or ``box`` (``clusters``), named.
+    IndexError
+        No particle (``sites`` empty).
     """
     coords, _ = clusters(sites, box, tiling)[0]
     xy = site_positions(placed(coords, box), tiling)

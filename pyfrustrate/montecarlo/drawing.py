@@ -57,6 +57,11 @@ def draw_snapshot(sites, box, ax=None, particle=None, *, magnify=1.0, cmap="tab1
     matplotlib.axes.Axes
         The axes drawn on.
 
+    Raises
+    ------
+    ValueError
+        Bad ``sites`` or ``box`` (``clusters``), named.
+
     Examples
     --------
     >>> from pyfrustrate.montecarlo import draw_snapshot
