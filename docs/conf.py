@@ -105,47 +105,6 @@ html_context = {"default_mode": "light"}
 # Pages without sub-pages get no (empty) section navigation on the left.
 html_sidebars = {page: [] for page in ("index", "gallery", "changelog", "results_log", "api")}
 
-
-# One stopgap remains: pyfrustrate/montecarlo.py's module docstring lists the annealing schedules
-# as an aligned "term   description" table, which reST reads as a paragraph that ends a
-# definition list badly (a warning, so -W fails). Until that docstring is a definition list
-# (term on its own line, description indented below, as the other modules now write theirs),
-# such a table (a term that is a literal or one word, two or more spaces, its description,
-# continuation lines indented) is rewritten as a definition list when autodoc reads it. Nothing
-# else is rewritten, so -W stays strict for every other docstring. (Sphinx 9's autosummary cuts a
-# summary at the first ". " even inside an inline literal: a first sentence keeps ". " out of its
-# literals, as every docstring now does, so no workaround for that is kept.)
-_TABLE_ITEM = re.compile(r"^((?:``[^`]+``(?:, ``[^`]+``)*)|[A-Za-z_]\w*)\s{2,}(\S.*)$")
-
-
-def _aligned_tables_to_definition_lists(lines: list[str]) -> list[str]:
-    out: list[str] = []
-    i = 0
-    while i < len(lines):
-        items = []
-        j = i
-        while j < len(lines) and (item := _TABLE_ITEM.match(lines[j])):
-            term, text = item.group(1), [item.group(2)]
-            j += 1
-            while j < len(lines) and lines[j].startswith("    ") and lines[j].strip():
-                text.append(lines[j].strip())
-                j += 1
-            items.append((term, " ".join(text)))
-        if len(items) >= 2:
-            if out and out[-1].strip():
-                out.append("")
-            for term, text in items:
-                out += [term, "    " + text, ""]
-            i = j
-        else:
-            out.append(lines[i])
-            i += 1
-    return out
-
-
-def _rewrite_aligned_tables(app, what, name, obj, options, lines):
-    lines[:] = _aligned_tables_to_definition_lists(lines)
-
-
-def setup(app):
-    app.connect("autodoc-process-docstring", _rewrite_aligned_tables)
+# Docstrings are read as written (numpydoc sections, reST definition lists), with no rewriting, so
+# -W stays strict for every one. Sphinx 9's autosummary cuts a summary at the first ". " even inside
+# an inline literal: a first sentence keeps ". " out of its literals.

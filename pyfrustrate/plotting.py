@@ -69,9 +69,20 @@ STRUCTURE_LABELS = {"single": "one aggregate", "wrapping_fiber": "fibre around t
 
 
 def matching_prediction(run, predictions):
-    """The finite-size prediction (a file of the montecarlo_finite_aggregates or
-    triangle_finite_aggregates rule) made for a Monte Carlo run's particle number and nu; None
-    when there is none."""
+    """The finite-size prediction made for a Monte Carlo run's particle number and nu.
+
+    Parameters
+    ----------
+    run : dict
+        A Monte Carlo run's summary (``n``, ``nu``).
+    predictions : iterable of dict
+        Files of the montecarlo_finite_aggregates or triangle_finite_aggregates rule.
+
+    Returns
+    -------
+    dict or None
+        The matching prediction; None when there is none.
+    """
     for f in predictions:
         if int(f["n"]) == int(run["n"]) and abs(float(f["nu"]) - float(run["nu"])) < 1e-9:
             return f
@@ -79,9 +90,21 @@ def matching_prediction(run, predictions):
 
 
 def gap_to_best_single(run, predictions):
-    """A Monte Carlo run's final energy above the best single aggregate of as many particles at
-    its nu and g (``ansatz.energy_above_best_single``), in bulk particle energies, from the
-    finite-size ``predictions``; None when none matches the run's particle number and nu."""
+    """A Monte Carlo run's final energy above the best single aggregate of as many particles.
+
+    Parameters
+    ----------
+    run : dict
+        A Monte Carlo run's summary (``n``, ``nu``, ``energy``, ``g``).
+    predictions : iterable of dict
+        Finite-size predictions (``matching_prediction``).
+
+    Returns
+    -------
+    float or None
+        The gap at the run's nu and g (``ansatz.energy_above_best_single``), in bulk particle
+        energies; None when no prediction matches the run's particle number and nu.
+    """
     from .ansatz import energy_above_best_single
 
     f = matching_prediction(run, predictions)
@@ -89,14 +112,42 @@ def gap_to_best_single(run, predictions):
 
 
 def structure_label(structure: str) -> str:
-    """A box structure (``STRUCTURE_LABELS``; "aggregatesN": N separate aggregates) in words."""
+    """A box structure in words.
+
+    Parameters
+    ----------
+    structure : str
+        A key of ``STRUCTURE_LABELS``, or ``"aggregatesN"``: N separate aggregates.
+
+    Returns
+    -------
+    str
+        The label.
+
+    Examples
+    --------
+    >>> from pyfrustrate.plotting import structure_label
+    >>> structure_label("wrapping_fiber"), structure_label("aggregates3")
+    ('fibre around the box', '3 aggregates')
+    """
     if structure.startswith("aggregates") and structure[len("aggregates"):].isdigit():
         return f"{structure[len('aggregates'):]} aggregates"
     return STRUCTURE_LABELS.get(structure, structure.replace("_", " "))
 
 
 def box_label(box: int) -> str:
-    """A periodic box of ``box`` x ``box`` sites, written one way in every figure."""
+    """A periodic box of ``box`` x ``box`` sites, written one way in every figure.
+
+    Parameters
+    ----------
+    box : int
+        Box side, in lattice cells.
+
+    Returns
+    -------
+    str
+        Mathtext label, e.g. ``60$\\times$60``.
+    """
     return rf"{int(box)}$\times${int(box)}"
 
 
@@ -106,9 +157,36 @@ OUTLINE_SLOTS = {"hexagon": [0, 1, 2, 3, 4, 5], "triangle": [0, 1, 2]}
 
 
 def figure(width_cm: float = PAGE_WIDTH_CM, height_cm: float = 8.0, **kwargs):
-    """A figure at its print size: ``width_cm`` one column (8.6 cm) or two (17.8 cm), at most
-    23 cm tall. The page is the figure (``save`` does not crop), so what is drawn here is what
-    prints."""
+    """A figure at its print size, in the figures' style (``STYLE``).
+
+    The page is the figure (``save`` does not crop), so what is drawn here is what prints.
+
+    Parameters
+    ----------
+    width_cm : float
+        One column (8.6 cm, ``COLUMN_WIDTH_CM``) or two (17.8 cm, ``PAGE_WIDTH_CM``).
+    height_cm : float
+        Height in cm, in (0, 23].
+    **kwargs
+        Passed to ``matplotlib.pyplot.figure``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+
+    Raises
+    ------
+    ValueError
+        Another width, or a height out of range.
+
+    Examples
+    --------
+    >>> from pyfrustrate import plotting
+    >>> fig = plotting.figure(plotting.COLUMN_WIDTH_CM, 5.0)
+    >>> [round(float(x) * 2.54, 2) for x in fig.get_size_inches()]
+    [8.6, 5.0]
+    """
     if width_cm not in (COLUMN_WIDTH_CM, PAGE_WIDTH_CM):
         raise ValueError(f"width_cm must be {COLUMN_WIDTH_CM} (one column) or {PAGE_WIDTH_CM} (two), got {width_cm}")
     if not 0 < height_cm <= MAX_HEIGHT_CM:
@@ -123,11 +201,22 @@ CHECK_KEY = "figure-check"
 
 
 def save(fig, outputs, provenance: dict | None = None) -> None:
-    """Save ``fig`` to every path in ``outputs`` (format from the suffix), atomically, at its
-    drawn size (no cropping: the page is the print size), stamped with its provenance (by
-    default ``provenance.describe()``: package, commit, kernel build): a PNG text chunk, or a
-    PDF's Subject field. The findings of ``check_figure`` are warned about and stored in the
-    PNG's ``CHECK_KEY`` chunk."""
+    """Save ``fig`` to every path in ``outputs``, atomically, stamped with its provenance.
+
+    At its drawn size (no cropping: the page is the print size). The findings of
+    ``check_figure`` are warned about and stored in the PNG's ``CHECK_KEY`` chunk. The figure is
+    closed.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    outputs : iterable of str or path-like
+        Files to write, the format from the suffix (``.pdf``, ``.png``, ...).
+    provenance : dict or None, optional
+        The record stamped into each file (a PNG text chunk, or a PDF's Subject field); default
+        ``provenance.describe()`` (package, commit, kernel build).
+    """
     problems = check_figure(fig)
     for problem in problems:
         warnings.warn(f"figure check: {problem}", stacklevel=2)
@@ -142,10 +231,26 @@ def save(fig, outputs, provenance: dict | None = None) -> None:
 
 
 def panel_label(ax, label: str, dx_pt: float = -6.0, dy_pt: float = 4.0, at_cm: tuple | None = None):
-    """The panel letter "(a)", bold, in one place: just above and left of the axes' top-left
-    corner (``dx_pt``, ``dy_pt``: an offset in points, for a panel whose tick labels reach there);
-    or, for drawings whose equal aspect shrinks the axes, at ``at_cm`` (x, y in cm on the page,
-    the letter's top-left corner), so that a row of drawings has its letters on one line."""
+    """The panel letter "(a)", bold, in one place.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The panel.
+    label : str
+        The letter, without parentheses.
+    dx_pt, dy_pt : float
+        Offset in points from the axes' top-left corner (for a panel whose tick labels reach
+        there); by default just above and left of it.
+    at_cm : tuple of (float, float) or None
+        For drawings whose equal aspect shrinks the axes: the letter's top-left corner, x and y
+        in cm on the page, so that a row of drawings has its letters on one line.
+
+    Returns
+    -------
+    matplotlib.text.Text
+        The letter.
+    """
     if at_cm is not None:
         fig = ax.figure
         width_cm, height_cm = (x * 2.54 for x in fig.get_size_inches())
@@ -157,7 +262,45 @@ def panel_label(ax, label: str, dx_pt: float = -6.0, dy_pt: float = 4.0, at_cm: 
 
 
 def draw_hexagons(ax, corners, values=None, cmap="viridis", norm=None, edgecolor="0.25", linewidth=0.3, **kwargs):
-    """Draw particles as filled hexagons. ``corners``: (n, 6, 2); ``values``: (n,) colours them."""
+    """Draw particles as filled hexagons.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    corners : array_like, shape (n, 6, 2)
+        Corner positions, Cartesian, in lattice spacings (``relaxation.particle_corners``).
+    values : array_like, shape (n,), or None
+        Colours the particles (e.g. ``relaxation.particle_energies``); None: uniform.
+    cmap : str or matplotlib colormap
+        Colormap of ``values``.
+    norm : matplotlib.colors.Normalize or None
+        Normalisation of ``values`` (default: their range).
+    edgecolor : color
+        Outline colour.
+    linewidth : float
+        Outline width, points.
+    **kwargs
+        Passed to ``matplotlib.collections.PolyCollection``.
+
+    Returns
+    -------
+    matplotlib.collections.PolyCollection
+        The hexagons (a mappable, for a colour bar).
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from pyfrustrate import Hexagon, relaxation, topology
+    >>> from pyfrustrate.plotting import draw_hexagons
+    >>> particle, aggregate = Hexagon.from_continuum(ell=2.0, nu=0.5), topology.disk(2)
+    >>> result = relaxation.relax(particle, aggregate)
+    >>> corners = relaxation.particle_corners(particle, aggregate, result.state)
+    >>> fig, ax = plt.subplots()
+    >>> hexagons = draw_hexagons(ax, corners, values=relaxation.particle_energies(particle, aggregate, result.state))
+    >>> len(hexagons.get_paths()) == aggregate.n_particles
+    True
+    """
     polys = PolyCollection(np.asarray(corners), edgecolors=edgecolor, linewidths=linewidth, **kwargs)
     if values is not None:
         polys.set_array(np.asarray(values))
@@ -171,9 +314,22 @@ def draw_hexagons(ax, corners, values=None, cmap="viridis", norm=None, edgecolor
 
 
 def draw_particle_springs(ax, corners, linewidth: float = 1.2, markersize: float = 14) -> None:
-    """Particles with their three spring networks (Fig. 2): yellow and red triangles, blue
-    connecting sides, yellow and red corners. ``corners``: (6, 2) for one particle or (n, 6, 2),
-    slots counter-clockwise from 30 degrees, odd slots yellow."""
+    """Particles with their three spring networks (Fig. 2).
+
+    Yellow and red triangles, blue connecting sides, yellow and red corners.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    corners : array_like, shape (6, 2) or (n, 6, 2)
+        Corner positions of one particle or of n, slots counter-clockwise from 30 degrees, odd
+        slots yellow; lattice spacings.
+    linewidth : float
+        Spring width, points.
+    markersize : float
+        Corner marker area, points squared.
+    """
     c = np.asarray(corners, float).reshape(-1, 6, 2)
     sides = [(p[s], p[(s + 1) % 6]) for p in c for s in range(6)]
     yellow = [(p[s], p[(s + 2) % 6]) for p in c for s in (1, 3, 5)]
@@ -199,13 +355,35 @@ def _distance_to_segments(point, segments) -> np.ndarray:
 
 def draw_distance_definitions(ax, corners, pairs, colors=None, fontsize: float = 7, clearance: float = 0.13,
                               node_radius: float = 0.05, linewidth: float = 1.6, markersize: float = 22) -> None:
-    """The nine distances of a random particle (``pairs``: random_particles.DISTANCE_PAIRS, the
-    corner slots each joins) on its six ``corners`` (6, 2), each labelled d1..d9 at the
-    midpoint of its own pair, moved outwards (away from the particle's centre) to the first
-    place where the label's centre is ``clearance`` (data units; about a label's half-diagonal)
-    from every line and other label, and ``clearance + node_radius`` from every corner, with a
-    thin grey leader back to a dot at the midpoint: in the star of the two triangles a label
-    right at a midpoint would sit on the other triangle's sides."""
+    """The nine distances of a random particle on its six corners, labelled d1..d9.
+
+    Each label starts at the midpoint of its own pair and moves outwards (away from the
+    particle's centre) to the first place clear of every line, label and corner, with a thin grey
+    leader back to a dot at the midpoint: in the star of the two triangles a label right at a
+    midpoint would sit on the other triangle's sides.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    corners : array_like, shape (6, 2)
+        The particle's corners, lattice spacings.
+    pairs : sequence of (int, int)
+        The corner slots each distance joins (``random_particles.DISTANCE_PAIRS``).
+    colors : sequence of color or None
+        One per distance (default ``DISTANCE_COLORS``).
+    fontsize : float
+        Label size, points.
+    clearance : float
+        Least distance from a label's centre to every line and other label, data units (about
+        a label's half-diagonal).
+    node_radius : float
+        Added to ``clearance`` near corners, data units.
+    linewidth : float
+        Distance line width, points.
+    markersize : float
+        Corner marker area, points squared.
+    """
     c = np.asarray(corners, float)
     colors = DISTANCE_COLORS if colors is None else colors
     outline = [(c[s], c[(s + 1) % 6]) for s in range(6)]
@@ -233,9 +411,21 @@ def draw_distance_definitions(ax, corners, pairs, colors=None, fontsize: float =
 
 
 def shaded_colormap(color, tint: float = 0.3):
-    """A ramp from a light tint of ``color`` (``tint`` of the colour over white, so the smallest
-    size still reads as its phase and not as the background) to ``color``, for sizes inside a
-    region of a phase diagram."""
+    """A ramp from a light tint of ``color`` to ``color``, for sizes inside a phase's region.
+
+    Parameters
+    ----------
+    color : color
+        The phase's colour.
+    tint : float
+        Weight of the colour over white at the light end, so the smallest size still reads as
+        its phase and not as the background.
+
+    Returns
+    -------
+    matplotlib.colors.LinearSegmentedColormap
+        The ramp.
+    """
     from matplotlib.colors import LinearSegmentedColormap, to_rgb
 
     light = tuple(1 - tint * (1 - c) for c in to_rgb(color))
@@ -248,15 +438,39 @@ CLUSTER_COLORS = ["#e08214", "#b8a000", "#8c6d31", "#7f9f3a", "#fdb863", "#66a61
 
 
 def cluster_colormap():
-    """``CLUSTER_COLORS`` as a colormap, for ``montecarlo.draw_snapshot(cmap=...)``."""
+    """``CLUSTER_COLORS`` as a colormap, for ``montecarlo.draw_snapshot(cmap=...)``.
+
+    Returns
+    -------
+    matplotlib.colors.ListedColormap
+        The colormap.
+    """
     from matplotlib.colors import ListedColormap
 
     return ListedColormap(CLUSTER_COLORS, name="clusters")
 
 
 def draw_snapshot(sites, box, ax, **kwargs):
-    """A Monte Carlo snapshot in the figures' colours and without the box's outline (its edges
-    cut through aggregates drawn across the periodic boundary)."""
+    """A Monte Carlo snapshot in the figures' colours, without the box's outline.
+
+    The box's edges would cut through aggregates drawn across the periodic boundary.
+
+    Parameters
+    ----------
+    sites : array_like, shape (n, 2) or (n, 3), int
+        Occupied sites in lattice coordinates (``BoxState.sites``).
+    box : int
+        Box side, in lattice cells.
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    **kwargs
+        Passed to ``montecarlo.draw_snapshot`` (``particle``, ``magnify``, ``tiling``, ...).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes drawn on.
+    """
     from .montecarlo import draw_snapshot as _draw
 
     kwargs.setdefault("outline", False)
@@ -271,15 +485,28 @@ SIZE_LABELS = {"fiber": LABELS["W"], "disk": LABELS["R"]}
 
 
 def continuum_boundaries(lines: dict, flank: float = 1e-6) -> dict:
-    """The continuum lines of Fig. 3a (``lines``: ``line_nu`` and the Gamma of each line, as in
-    the continuum phase-diagram file) kept only where they are phase boundaries, nan elsewhere.
+    """The continuum lines of Fig. 3a kept only where they are phase boundaries, nan elsewhere.
 
     ``critical_line_tensions`` gives each line wherever it is defined: ``fiber_bulk = 1`` at every
     nu, though below the triple point disks win on both sides of it, and ``disk_bulk = 1`` above,
     where fibres border the bulk. A point is kept where ``continuum.phase`` just left and right of
     it gives the two phases the line is named for; its neighbours are kept too, so that each
     drawn line runs to the last grid point before it stops being a boundary (the triple point,
-    where the disk-bulk line reaches Gamma = 1)."""
+    where the disk-bulk line reaches Gamma = 1).
+
+    Parameters
+    ----------
+    lines : dict
+        ``line_nu`` (m,) and the Gamma (m,) of each line of ``CONTINUUM_LINE_PHASES``, as in the
+        continuum phase-diagram file (``continuum.critical_line_tensions``).
+    flank : float
+        How far left and right of a line (in Gamma) its phases are read.
+
+    Returns
+    -------
+    dict of ndarray, each shape (m,)
+        Each line's Gamma where it is a boundary (and at its neighbours), nan elsewhere.
+    """
     nu = np.asarray(lines["line_nu"], float)
     kept = {}
     for key, pair in CONTINUUM_LINE_PHASES.items():
@@ -298,15 +525,42 @@ def continuum_boundaries(lines: dict, flank: float = 1e-6) -> dict:
 
 
 def continuum_triple_point(boundaries: dict, line_nu) -> tuple[float, float]:
-    """(Gamma, nu) where the disk-bulk boundary ends on the fibre-bulk one: the triple point."""
+    """(Gamma, nu) where the disk-bulk boundary ends on the fibre-bulk one: the triple point.
+
+    Parameters
+    ----------
+    boundaries : dict
+        The kept lines (``continuum_boundaries``).
+    line_nu : array_like, shape (m,)
+        Their nu grid.
+
+    Returns
+    -------
+    tuple of (float, float)
+        Gamma and nu of the triple point.
+    """
     line_nu = np.asarray(line_nu, float)
     top = np.nanargmax(np.where(np.isfinite(boundaries["disk_bulk"]), line_nu, np.nan))
     return float(boundaries["disk_bulk"][top]), float(line_nu[top])
 
 
 def draw_continuum_boundaries(ax, lines: dict, dashed: bool = False) -> dict:
-    """The continuum phase boundaries (``continuum_boundaries``) on ``ax``: solid black, or
-    dashed black on white (over the numerical diagrams). Returns the kept lines."""
+    """The continuum phase boundaries (``continuum_boundaries``) on ``ax``.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw (Gamma on x, nu on y).
+    lines : dict
+        As ``continuum_boundaries`` takes.
+    dashed : bool
+        Dashed black on white (over the numerical diagrams) instead of solid black.
+
+    Returns
+    -------
+    dict of ndarray
+        The kept lines.
+    """
     kept = continuum_boundaries(lines)
     for G in kept.values():
         if dashed:
@@ -318,8 +572,16 @@ def draw_continuum_boundaries(ax, lines: dict, dashed: bool = False) -> dict:
 
 
 def size_norm():
-    """One scale for W*/ell and R*/ell in every phase diagram: R*/ell stays below 8 (Fig. 4b);
-    W*/ell diverges at the fibre-bulk boundary, so the bars extend beyond 10."""
+    """One scale for W*/ell and R*/ell in every phase diagram.
+
+    R*/ell stays below 8 (Fig. 4b); W*/ell diverges at the fibre-bulk boundary, so the bars
+    extend beyond 10.
+
+    Returns
+    -------
+    matplotlib.colors.LogNorm
+        From 0.3 to 10.
+    """
     from matplotlib.colors import LogNorm
 
     return LogNorm(0.3, 10.0)
@@ -329,9 +591,26 @@ SIZE_TICKS = (0.3, 1, 3, 10)
 
 
 def size_colorbars(fig, mappables: dict, rect_cm: tuple, gap_cm: float = 1.25, width_cm: float = 0.25) -> list:
-    """Colour bars of the fibre width W*/ell and the disk radius R*/ell, side by side from
-    ``rect_cm`` = (left, bottom, height) in cm on the page, ``gap_cm`` apart (room for the
-    first bar's tick labels), each labelled once, above it."""
+    """Colour bars of the fibre width W*/ell and the disk radius R*/ell, side by side.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    mappables : dict
+        ``"fiber"`` and ``"disk"`` mappables (``draw_continuum_diagram``, ``shade_phases``).
+    rect_cm : tuple of (float, float, float)
+        (left, bottom, height) of the first bar, cm on the page.
+    gap_cm : float
+        From one bar's left edge to the next's, cm (room for the first bar's tick labels).
+    width_cm : float
+        Bar width, cm.
+
+    Returns
+    -------
+    list of matplotlib.colorbar.Colorbar
+        The two bars, each labelled once, above it.
+    """
     page_w, page_h = (x * 2.54 for x in fig.get_size_inches())
     left, bottom, height = rect_cm
     bars = []
@@ -355,10 +634,24 @@ CONTOUR_LABEL_NU = {"fiber": 0.92, "disk": 0.3}
 
 
 def contour_label_places(contours, nu: float, min_span: float = 0.1) -> list:
-    """One point on each level of ``contours`` for ``clabel(manual=...)``: the vertex nearest
-    to height ``nu`` (a level that does not reach it: its middle vertex). Levels spanning less
-    than ``min_span`` in nu (squeezed into a corner, where a label would cover the boundary)
-    stay unlabelled: the colour bar reads them."""
+    """One point on each level of ``contours`` for ``clabel(manual=...)``.
+
+    Parameters
+    ----------
+    contours : matplotlib.contour.QuadContourSet
+        The contours (Gamma on x, nu on y).
+    nu : float
+        The height to label at: the vertex nearest to it (a level that does not reach it: its
+        middle vertex).
+    min_span : float
+        Levels spanning less than this in nu (squeezed into a corner, where a label would cover
+        the boundary) stay unlabelled: the colour bar reads them.
+
+    Returns
+    -------
+    list of tuple of (float, float)
+        The label positions.
+    """
     places = []
     for segments in contours.allsegs:
         if not any(len(v) for v in segments):
@@ -373,10 +666,25 @@ def contour_label_places(contours, nu: float, min_span: float = 0.1) -> list:
 
 
 def draw_continuum_diagram(ax, d: dict) -> dict:
-    """The continuum phase diagram (Fig. 3a; ``d``: the continuum phase-diagram file): disk,
-    fibre and bulk regions shaded by W*/ell and R*/ell (``size_norm``), contours at
-    ``SIZE_CONTOURS`` (labelled where they are apart), the boundaries (``draw_continuum_boundaries``) and the triple point.
-    Returns the fibre and disk images, for ``size_colorbars``."""
+    """The continuum phase diagram (Fig. 3a).
+
+    Disk, fibre and bulk regions shaded by W*/ell and R*/ell (``size_norm``), contours at
+    ``SIZE_CONTOURS`` (labelled where they are apart), the boundaries
+    (``draw_continuum_boundaries``) and the triple point.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    d : dict
+        The continuum phase-diagram file: ``nu`` (a,), ``Gamma`` (b,), ``phase``, ``width`` and
+        ``radius`` (a, b; lengths in units of ell), and the lines of ``continuum_boundaries``.
+
+    Returns
+    -------
+    dict
+        The fibre and disk images, for ``size_colorbars``.
+    """
     nu, G, phase = d["nu"], d["Gamma"], d["phase"]
     extent = (G[0], G[-1], nu[0], nu[-1])
     norm = size_norm()
@@ -405,7 +713,24 @@ def draw_continuum_diagram(ax, d: dict) -> dict:
 
 
 def phase_legend(ax, phases, dashed_continuum: bool = False, **kwargs):
-    """The legend of the phase colours (and of the dashed continuum lines), above ``ax``."""
+    """The legend of the phase colours (and of the dashed continuum lines), above ``ax``.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The diagram.
+    phases : iterable of str
+        Phases to list (keys of ``PHASE_COLORS``).
+    dashed_continuum : bool
+        Also list the dashed continuum lines.
+    **kwargs
+        Passed to ``ax.legend``, overriding the placement above the axes.
+
+    Returns
+    -------
+    matplotlib.legend.Legend
+        The legend.
+    """
     from matplotlib.artist import Artist
     from matplotlib.patches import Patch
 
@@ -417,9 +742,28 @@ def phase_legend(ax, phases, dashed_continuum: bool = False, **kwargs):
 
 
 def shade_phases(ax, x_edges, y_edges, phase, length_over_ell, **kwargs) -> dict:
-    """Cells of a diagram coloured by their phase (``phase``: names, 2D), fibres and disks shaded
-    by W*/ell and R*/ell (``length_over_ell``, same shape) on ``size_norm``'s scale, the other
-    phases flat. Returns the fibre and disk meshes, for ``size_colorbars``."""
+    """Cells of a diagram coloured by their phase, fibres and disks shaded by their size.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    x_edges : array_like, shape (b + 1,)
+        Cell edges along x.
+    y_edges : array_like, shape (a + 1,)
+        Cell edges along y.
+    phase : ndarray, shape (a, b), str
+        Phase names of the cells.
+    length_over_ell : ndarray, shape (a, b)
+        W*/ell or R*/ell, shaded on ``size_norm``'s scale; the other phases are flat.
+    **kwargs
+        Passed to ``ax.pcolormesh``.
+
+    Returns
+    -------
+    dict
+        The fibre and disk meshes, for ``size_colorbars``.
+    """
     norm = size_norm()
     meshes = {}
     for name in ("fiber", "disk"):
@@ -433,11 +777,30 @@ def shade_phases(ax, x_edges, y_edges, phase, length_over_ell, **kwargs) -> dict
 
 
 def draw_ansatz_diagram(ax, diagram: dict, continuum: dict):
-    """Numerical phase diagram (Figs. 3b, S1): cells coloured by the winning aggregate (black bulk
-    with holes, red disk, blue fibre, purple bulk), disks and fibres shaded by the winner's
-    W*/ell and R*/ell (``size_norm``), with the continuum boundaries of Fig. 3a as dashed lines
-    (only where they are boundaries: ``continuum_boundaries``). Returns the fibre and disk
-    meshes, for ``size_colorbars``, and the phases drawn, for ``phase_legend``."""
+    """Numerical phase diagram (Figs. 3b, S1).
+
+    Cells coloured by the winning aggregate (black bulk with holes, red disk, blue fibre, purple
+    bulk), disks and fibres shaded by the winner's W*/ell and R*/ell (``size_norm``), with the
+    continuum boundaries of Fig. 3a as dashed lines (only where they are boundaries:
+    ``continuum_boundaries``).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    diagram : dict
+        The catalogue's diagram: ``nu`` (a,), ``Gamma`` (b,), ``phase`` and ``length`` (a, b;
+        W* or R* in lattice spacings) and ``ell``.
+    continuum : dict
+        The continuum phase-diagram file (its lines, ``continuum_boundaries``).
+
+    Returns
+    -------
+    meshes : dict
+        The fibre and disk meshes, for ``size_colorbars``.
+    shown : list of str
+        The phases drawn, for ``phase_legend``.
+    """
     nu, G, phase, length = diagram["nu"], diagram["Gamma"], diagram["phase"], diagram["length"]
     ell = float(diagram["ell"])
 
@@ -494,10 +857,35 @@ def _drawn_texts(fig):
 
 
 def check_figure(fig, overlap_px: float = 0.0) -> list[str]:
-    """What a machine can check of a figure drawn at print size; returns the problems found
-    (empty: none). The page is at most 17.8 cm wide (one column 8.6 cm, two 17.8 cm) and 23 cm
-    tall; every text is at least 7 pt (free annotations 6 pt); no two texts overlap (by more
-    than ``overlap_px`` pixels each way) and none leaves the page; no visible axes is empty."""
+    """What a machine can check of a figure drawn at print size.
+
+    The page is at most 17.8 cm wide (one column 8.6 cm, two 17.8 cm) and 23 cm tall; every
+    text is at least 7 pt (free annotations 6 pt); no two texts overlap and none leaves the
+    page; no visible axes is empty.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure (drawn here, as saved).
+    overlap_px : float
+        Overlap tolerated, pixels each way.
+
+    Returns
+    -------
+    list of str
+        The problems found (empty: none).
+
+    Examples
+    --------
+    >>> from pyfrustrate import plotting
+    >>> fig = plotting.figure(plotting.COLUMN_WIDTH_CM, 4.0)
+    >>> ax = fig.add_subplot()
+    >>> plotting.check_figure(fig)
+    ['an empty axes at (...)']
+    >>> _ = ax.plot([0, 1], [0, 1])
+    >>> plotting.check_figure(fig)
+    []
+    """
     problems = []
     width_cm, height_cm = (x * 2.54 for x in fig.get_size_inches())
     if width_cm > PAGE_WIDTH_CM + 0.01:

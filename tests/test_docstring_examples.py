@@ -29,7 +29,11 @@ ENTRY_POINTS = [
     "pyfrustrate.ansatz.CatalogueEnergies.winners", "pyfrustrate.ansatz.finite_aggregates", "pyfrustrate.chain.relax",
     "pyfrustrate.random_particles.RandomHexagon", "pyfrustrate.random_particles.sample_properties",
     "pyfrustrate.random_particles.boundary_layer_length", "pyfrustrate.relaxation.particle_energies",
-    "pyfrustrate.relaxation.relaxed_drawing",
+    "pyfrustrate.relaxation.relaxed_drawing", "pyfrustrate.montecarlo.anneal", "pyfrustrate.montecarlo.replica_exchange",
+    "pyfrustrate.montecarlo.geometric_temperatures", "pyfrustrate.montecarlo.binding",
+    "pyfrustrate.montecarlo.MonteCarloOptions", "pyfrustrate.montecarlo.clusters",
+    "pyfrustrate.montecarlo.classify_aggregate", "pyfrustrate.montecarlo.draw_snapshot",
+    "pyfrustrate.plotting.figure", "pyfrustrate.plotting.draw_hexagons", "pyfrustrate.plotting.check_figure",
 ]
 
 
@@ -69,6 +73,10 @@ def test_entry_point_has_a_running_example(name):
 #: Modules whose every public function and class documents its parameters in numpydoc sections.
 DOCUMENTED_MODULES = ["pyfrustrate._checks", "pyfrustrate.ansatz", "pyfrustrate.boundary_layer", "pyfrustrate.chain",
                       "pyfrustrate.continuum", "pyfrustrate.ground_states", "pyfrustrate.io", "pyfrustrate.particles",
+                      "pyfrustrate.montecarlo.analysis", "pyfrustrate.montecarlo.annealing",
+                      "pyfrustrate.montecarlo.checkpoints", "pyfrustrate.montecarlo.drawing",
+                      "pyfrustrate.montecarlo.driver", "pyfrustrate.montecarlo.exchange",
+                      "pyfrustrate.montecarlo.options", "pyfrustrate.montecarlo.trajectory", "pyfrustrate.plotting",
                       "pyfrustrate.provenance", "pyfrustrate.random_particles", "pyfrustrate.relaxation",
                       "pyfrustrate.topology"]
 

@@ -7,6 +7,13 @@ Modules: ``options`` (``MonteCarloOptions``, the one options type, checked once;
 ``driver`` (the run loop both share, a chain's state as a value), ``checkpoints`` (data-only
 checkpoint files), ``trajectory`` (GSD snapshots), ``analysis`` (clusters through the kernel,
 classification of aggregates, ``BoxState``) and ``drawing`` (``draw_snapshot``).
+
+Units and conventions: sites are lattice coordinates on the 60-degree axes ``a1 = (1, 0)``,
+``a2 = (1/2, sqrt(3)/2)`` of a periodic ``box x box`` patch of cells; energies and temperatures are
+in the particle's spring units. Every entry point takes the binding by keyword, as ``g=`` (the
+binding energy per bound pair of sides, spring units) or as ``Gamma=`` (the dimensionless line
+tension) with ``convention=`` (``"measured"``, the default, or ``"supplement"``; the ``continuum``
+module docstring lists every route between the two).
 """
 from .analysis import (ELONGATION_THRESHOLD, OPEN_NETWORK_BONDS, BoxState, classify_aggregate, clusters,
                        largest_cluster_extent)

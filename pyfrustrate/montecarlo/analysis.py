@@ -1,6 +1,9 @@
-"""What a Monte Carlo configuration holds: its clusters (found by the kernel's search, the one the
-chain itself uses: ``_kernel.box_clusters``, kernel/box.hpp), the kind of its largest aggregate
-for phase diagrams, and ``BoxState``, the final configuration every run returns."""
+"""What a Monte Carlo configuration holds: its clusters, the kind of its largest aggregate.
+
+Clusters are found by the kernel's search, the one the chain itself uses
+(``_kernel.box_clusters``, kernel/box.hpp); the kind of the largest aggregate feeds phase
+diagrams; ``BoxState`` is the final configuration every run returns.
+"""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -22,8 +25,28 @@ OPEN_NETWORK_BONDS = 2.0 / 3.0
 
 
 def box_sites(sites, box: int, tiling: str) -> np.ndarray:
-    """Sites of a box state as an (n, columns) integer array, or ValueError naming ``sites``:
-    reshaping any array into columns would make sites of garbage."""
+    """Return the sites of a box state as an (n, columns) integer array.
+
+    Parameters
+    ----------
+    sites : array_like, shape (n, columns)
+        Lattice coordinates (integers, or floats holding integers).
+    box : int
+        Box side, in lattice cells.
+    tiling : {"hexagon", "triangle"}
+        The tiling (``columns``: 2 for hexagons, 3 for triangles).
+
+    Returns
+    -------
+    ndarray, shape (n, columns), int64
+        The sites.
+
+    Raises
+    ------
+    ValueError
+        ``sites`` of another shape or not integer, named (reshaping any array into columns would
+        make sites of garbage).
+    """
     columns = site_columns(tiling)
     a = np.asarray(sites)
     if a.size == 0:
@@ -38,11 +61,41 @@ def box_sites(sites, box: int, tiling: str) -> np.ndarray:
 def clusters(sites, box, tiling="hexagon") -> list[tuple[np.ndarray, int]]:
     """Connected clusters of occupied sites in the periodic ``box`` (edge neighbours of the tiling).
 
-    Returns ``(coords, rank)`` pairs, largest cluster first (ties in the order of their first
-    site in ``sites``): ``coords`` (k, 2) or (k, 3) are unwrapped sites (a breadth-first search
-    from the cluster's first site, so neighbours are one lattice step apart), ``rank`` is 0 for a
-    finite cluster, 1 if it wraps around the box in one direction, 2 in two. The kernel's search
-    (the one the Monte Carlo chain uses); a site held twice (modulo the box) raises ValueError.
+    The kernel's search (the one the Monte Carlo chain uses).
+
+    Parameters
+    ----------
+    sites : array_like, shape (n, 2) or (n, 3), int
+        Occupied sites in lattice coordinates (60-degree axes ``a1 = (1, 0)``,
+        ``a2 = (1/2, sqrt(3)/2)``; triangles: a third column, the sublattice), taken modulo
+        ``box``.
+    box : int
+        Box side, in lattice cells, in [1, 30000].
+    tiling : {"hexagon", "triangle"}, optional
+        The tiling.
+
+    Returns
+    -------
+    list of (ndarray, int)
+        ``(coords, rank)`` pairs, largest cluster first (ties in the order of their first site in
+        ``sites``): ``coords`` (k, 2) or (k, 3) are unwrapped sites (a breadth-first search from
+        the cluster's first site, so neighbours are one lattice step apart), ``rank`` is 0 for a
+        finite cluster, 1 if it wraps around the box in one direction, 2 in two.
+
+    Raises
+    ------
+    ValueError
+        A site held twice (modulo the box), or bad ``sites`` or ``box``, named.
+
+    Examples
+    --------
+    Two hexagons side by side and one apart, in a 6 x 6 box; a row of six wraps around it:
+
+    >>> from pyfrustrate.montecarlo import clusters
+    >>> [(len(c), rank) for c, rank in clusters([(0, 0), (1, 0), (3, 3)], box=6)]
+    [(2, 0), (1, 0)]
+    >>> [(len(c), rank) for c, rank in clusters([(i, 2) for i in range(6)], box=6)]
+    [(6, 1)]
     """
     box = integer("box", box, 1, 30000)
     a = box_sites(sites, box, tiling)
@@ -54,14 +107,42 @@ def clusters(sites, box, tiling="hexagon") -> list[tuple[np.ndarray, int]]:
 
 
 def classify_aggregate(sites, box, tiling="hexagon") -> tuple[str, int]:
-    """Kind of the largest aggregate of a Monte Carlo state, for phase diagrams: ``'bulk'``
-    (wraps the box both ways), ``'fiber'`` (wraps one way, or finite and elongated: gyration
-    anisotropy above ``ELONGATION_THRESHOLD``), ``'bulk_with_holes'`` (fewer than
-    ``OPEN_NETWORK_BONDS`` times the bulk's bonds per particle), ``'disk'`` (compact), or ``'gas'``
-    (largest cluster of fewer than 3 particles). Returns ``(kind, size of the largest cluster)``.
+    """Kind of the largest aggregate of a Monte Carlo state, for phase diagrams.
 
     A heuristic with the limits of a finite box: an aggregate narrower than the optimal fibre
     width but too short to show it (few particles) reads as a disk.
+
+    Parameters
+    ----------
+    sites : array_like, shape (n, 2) or (n, 3), int
+        Occupied sites in lattice coordinates (as ``clusters``).
+    box : int
+        Box side, in lattice cells.
+    tiling : {"hexagon", "triangle"}, optional
+        The tiling.
+
+    Returns
+    -------
+    kind : str
+        ``'bulk'`` (wraps the box both ways), ``'fiber'`` (wraps one way, or finite and
+        elongated: gyration anisotropy above ``ELONGATION_THRESHOLD``), ``'bulk_with_holes'``
+        (fewer than ``OPEN_NETWORK_BONDS`` times the bulk's bonds per particle), ``'disk'``
+        (compact), or ``'gas'`` (largest cluster of fewer than 3 particles).
+    size : int
+        Particles in the largest cluster.
+
+    Raises
+    ------
+    ValueError
+        No particle, or bad ``sites`` or ``box``.
+
+    Examples
+    --------
+    >>> from pyfrustrate.montecarlo import classify_aggregate
+    >>> classify_aggregate([(i, 2) for i in range(6)], box=6)
+    ('fiber', 6)
+    >>> classify_aggregate([(0, 0), (3, 3)], box=6)
+    ('gas', 1)
     """
     found = clusters(sites, box, tiling)
     if not found:
@@ -84,16 +165,51 @@ def classify_aggregate(sites, box, tiling="hexagon") -> tuple[str, int]:
 
 
 def placed(coords, box):
-    """Unwrapped cluster sites shifted by whole boxes so that their centre lies in the box (where
-    ``draw_snapshot`` draws them)."""
+    """Unwrapped cluster sites shifted by whole boxes so that their centre lies in the box.
+
+    Parameters
+    ----------
+    coords : ndarray, shape (k, 2) or (k, 3), int
+        A cluster's unwrapped sites (``clusters``).
+    box : int
+        Box side, in lattice cells.
+
+    Returns
+    -------
+    ndarray, shape (k, 2) or (k, 3), int
+        The sites where ``draw_snapshot`` draws them.
+    """
     coords = coords.copy()
     coords[:, :2] -= np.floor(coords[:, :2].mean(axis=0) / box).astype(int) * box
     return coords
 
 
 def largest_cluster_extent(sites, box, tiling="hexagon") -> tuple[np.ndarray, np.ndarray]:
-    """Lower-left and upper-right corners of the site centres of the largest cluster, as
-    ``draw_snapshot`` places it: the window to centre a snapshot panel on."""
+    """The window to centre a snapshot panel on: the largest cluster as ``draw_snapshot`` places it.
+
+    Parameters
+    ----------
+    sites : array_like, shape (n, 2) or (n, 3), int
+        Occupied sites in lattice coordinates.
+    box : int
+        Box side, in lattice cells.
+    tiling : {"hexagon", "triangle"}, optional
+        The tiling.
+
+    Returns
+    -------
+    lower : ndarray, shape (2,)
+        Lower-left corner of its site centres, Cartesian, in lattice spacings.
+    upper : ndarray, shape (2,)
+        Upper-right corner.
+
+    Raises
+    ------
+    ValueError
+        Bad ``sites`` or ``box`` (``clusters``), named.
+    IndexError
+        No particle (``sites`` empty).
+    """
     coords, _ = clusters(sites, box, tiling)[0]
     xy = site_positions(placed(coords, box), tiling)
     return xy.min(axis=0), xy.max(axis=0)
@@ -101,9 +217,25 @@ def largest_cluster_extent(sites, box, tiling="hexagon") -> tuple[np.ndarray, np
 
 @dataclass
 class BoxState:
-    """A final configuration of the periodic box, shared by ``AnnealResult`` and
-    ``ReplicaExchangeResult``: ``sites`` (n, 2) (or (n, 3)), ``box``, ``n``, ``g``,
-    ``energy = -g * bonds + deformation``, ``bonds`` and ``deformation``."""
+    """A final configuration of the periodic box, shared by ``AnnealResult`` and ``ReplicaExchangeResult``.
+
+    Attributes
+    ----------
+    sites : ndarray, shape (n, 2) (or (n, 3) for triangles), int
+        Occupied sites in lattice coordinates (60-degree axes; the third column the sublattice).
+    box : int
+        Box side, in lattice cells.
+    n : int
+        Number of particles.
+    g : float
+        Binding energy per bound pair of sides, spring units.
+    energy : float
+        ``-g * bonds + deformation``, spring units.
+    bonds : int
+        Bound pairs of sides.
+    deformation : float
+        Sum of the relaxed deformation energies of the clusters, spring units.
+    """
 
     sites: np.ndarray = field(repr=False)
     box: int
@@ -114,6 +246,12 @@ class BoxState:
     deformation: float
 
     def clusters(self) -> list[np.ndarray]:
-        """Final clusters, largest first: unwrapped sites, each shape (k, 2) (or (k, 3) for tilings
-        with several sublattices)."""
+        """Final clusters, largest first.
+
+        Returns
+        -------
+        list of ndarray
+            Unwrapped sites of each cluster, shape (k, 2) (or (k, 3) for tilings with several
+            sublattices).
+        """
         return [c for c, _ in clusters(self.sites, self.box, getattr(self, "tiling", "hexagon"))]

@@ -1,10 +1,11 @@
-"""Monte Carlo annealing of aggregate topologies (main text, "Monte-Carlo validation of the phase
-diagram"; the snapshots of Fig. 3b).
+"""Monte Carlo annealing of aggregate topologies.
+
+Main text, "Monte-Carlo validation of the phase diagram"; the snapshots of Fig. 3b.
 
 ``n`` particles occupy distinct sites of a periodic ``box x box`` patch of cells of the particle's
 tiling (cell ``(i, j)`` at ``i a1 + j a2``, ``i, j`` modulo ``box``): ``box**2`` sites for hexagons,
 ``2 box**2`` (an up and a down triangle per cell) for triangles. A move takes a random particle
-to a random empty site; the energy of a configuration is a sum over its connected clusters,
+to a random empty site; the energy of a configuration is a sum over its connected clusters::
 
     E = sum over clusters of [ -g * bonds + relaxed deformation energy ],
 
@@ -35,12 +36,16 @@ of a dimensionless line tension ``Gamma``.
 
 Schedules (``schedule=``), temperatures in energy units:
 
-``"linear"``     ``T = T0 (1 - x)``, ``x`` the fraction of the run (0 on the first record block,
-                 1 on the last), so the run ends at ``T = 0``.
-``"geometric"``  ``T = T0 (T_end / T0)**y`` from ``T0`` on the first block to ``T_end`` on the
-                 last but one (``y`` from 0 to 1), and ``T = 0`` on the last block.
-callable         ``T = schedule(x)``, evaluated once per record block.
-stages           a sequence of ``(T, n_steps)`` pairs, run in order (``steps`` is then their sum).
+``"linear"``
+    ``T = T0 (1 - x)``, ``x`` the fraction of the run (0 on the first record block, 1 on the
+    last), so the run ends at ``T = 0``.
+``"geometric"``
+    ``T = T0 (T_end / T0)**y`` from ``T0`` on the first block to ``T_end`` on the last but one
+    (``y`` from 0 to 1), and ``T = 0`` on the last block.
+a callable
+    ``T = schedule(x)``, evaluated once per record block.
+a sequence of stages
+    ``(T, n_steps)`` pairs, run in order (``steps`` is then their sum).
 
 ``T0`` defaults to ``g`` (the energy of one bond), or to the particle's bulk deformation energy per
 particle when ``g = 0``. A record block is ``record_every`` attempted moves (default one sweep,
@@ -76,11 +81,22 @@ DEFAULT_SWEEPS = 15_000
 class AnnealState:
     """Where an annealing run stands: a value, what a checkpoint holds on disk.
 
-    ``done``: record blocks completed; ``chain``: the kernel chain's ``ChainState`` (sites, the
-    ``std::mt19937_64`` state, the run's only random stream seeded by ``seed``, the running
-    deformation energy, the counters); ``energy_trace`` and ``accepted``: per completed block;
-    ``elapsed``: seconds spent so far. Pass it to ``anneal(..., state=)`` (with the run's
-    parameters) to continue the run."""
+    Pass it to ``anneal(..., state=)`` (with the run's parameters) to continue the run.
+
+    Attributes
+    ----------
+    done : int
+        Record blocks completed.
+    chain : ChainState
+        The kernel chain's state (sites, the ``std::mt19937_64`` state, the run's only random
+        stream seeded by ``seed``, the running deformation energy, the counters).
+    energy_trace : ndarray, shape (done,)
+        Energy after each completed block, in the particle's spring units.
+    accepted : ndarray, shape (done,), int
+        Accepted moves in each completed block.
+    elapsed : float
+        Seconds spent so far.
+    """
 
     done: int
     chain: ChainState = field(repr=False)  # type: ignore[valid-type]
@@ -90,10 +106,12 @@ class AnnealState:
 
     @property
     def particles(self) -> np.ndarray:
+        """Occupied sites, shape (n, 2) (or (n, 3) with a sublattice), in lattice coordinates."""
         return self.chain.particles
 
     @property
     def rng_state(self) -> str:
+        """The chain's ``std::mt19937_64`` state, as text."""
         return self.chain.rng_state
 
 
@@ -104,12 +122,19 @@ class AnnealResult(BoxState):
     Attributes
     ----------
     sites : ndarray, shape (n, 2), int
-        Final lattice coordinates ``0 <= i, j < box`` of each particle (particle order).
-    box, n : int
+        Final lattice coordinates ``0 <= i, j < box`` of each particle (particle order), on the
+        60-degree axes ``a1 = (1, 0)``, ``a2 = (1/2, sqrt(3)/2)``; shape (n, 3) for triangles (the
+        third column the sublattice, 0 up, 1 down).
+    box : int
+        Box side, in lattice cells.
+    n : int
+        Number of particles.
     g : float
-        Binding energy per bound pair of sides.
+        Binding energy per bound pair of sides, in the particle's spring units (what ``Gamma=``
+        was converted to).
     energy : float
-        Final energy ``-g * bonds + deformation`` (running sum of the accepted moves).
+        Final energy ``-g * bonds + deformation`` (running sum of the accepted moves), spring
+        units.
     bonds : int
         Bound pairs of sides at the end.
     deformation : float
@@ -131,6 +156,7 @@ class AnnealResult(BoxState):
         cache_misses, cache_clears, minimisations, evaluations, fallbacks, unconverged`` (these
         depend on the cache, which a checkpoint does not save).
     seed : int
+        The seed the run used (drawn when none was given).
     params : dict
         Everything that defines the run (particle, g, box, n, method, tol, schedule, ...).
     elapsed : float
@@ -159,7 +185,10 @@ class AnnealResult(BoxState):
 
     @property
     def cache_hit_rate(self) -> float:
-        """Fraction of cluster energies taken from the cache (isolated particles excluded)."""
+        """Fraction of cluster energies taken from the cache (isolated particles excluded).
+
+        Nan when no cluster was relaxed.
+        """
         c = self.counters
         total = c["cache_hits"] + c["cache_misses"]
         return c["cache_hits"] / total if total else float("nan")
@@ -233,9 +262,30 @@ def _schedule_description(schedule):
 # ---------------------------------------------------------------------------------------------
 
 def read_checkpoint(path, signature=None) -> AnnealState:
-    """The ``AnnealState`` an ``anneal`` checkpoint holds; with ``signature`` (a run's defining
-    parameters), refused when it was written by a run with other parameters. Any file that is
-    not such a checkpoint is refused with a ``ValueError`` naming it (``checkpoints``)."""
+    """The ``AnnealState`` an ``anneal`` checkpoint holds.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The checkpoint file (``anneal(..., checkpoint=path)``).
+    signature : dict or None, optional
+        A run's defining parameters (``result.params`` holds them); the file is refused when it
+        was written by a run with other ones. None accepts any ``anneal`` checkpoint.
+
+    Returns
+    -------
+    AnnealState
+        The state to pass to ``anneal(..., state=)``.
+
+    Raises
+    ------
+    FileNotFoundError
+        No file at ``path``.
+    ValueError
+        The file is not a checkpoint of an ``anneal`` run (empty, truncated, another format or
+        version, another kind of run) or, with ``signature``, of this run; the message names it
+        (``checkpoints``).
+    """
     metadata, arrays = read_checkpoint_file(path, "anneal", signature)
     chain, = chain_states_from_disk(path, metadata, arrays)
     try:
@@ -271,11 +321,21 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
     particle : Hexagon, RandomHexagon or Triangle (any ``particles.Particle``)
         Anything else raises ``TypeError``.
     g : float, keyword only
-        Binding energy per bound pair of sides (>= 0), in the units of the particle's springs.
+        Binding energy per bound pair of sides (>= 0), in the units of the particle's springs
+        (``k = 1`` for ``Hexagon.from_continuum``): the energy ``-g`` of each pair of touching
+        sides. Not the dimensionless ``Gamma``: at ell = 5, nu = 0.9, eps = 0.01 the paper's
+        ``Gamma = 0.5`` is ``g = 0.0078`` (``continuum.particle_parameters``), so a ``Gamma``
+        passed as ``g`` binds 64 times too strongly.
     Gamma : float, keyword only
-        Or the dimensionless line tension (spring particles), converted to ``g`` in
-        ``convention`` (``continuum.BINDING_CONVENTIONS``: ``"measured"``, gamma = g, or
-        ``"supplement"``). Exactly one of ``g`` and ``Gamma``.
+        Or the dimensionless line tension (spring particles ``Hexagon`` and ``Triangle``),
+        converted to ``g`` (``options.binding``) in ``convention``. Exactly one of ``g`` and
+        ``Gamma``, by keyword.
+    convention : {"measured", "supplement"}, keyword only
+        How ``Gamma`` maps to ``g`` (``continuum.BINDING_CONVENTIONS``, the ``continuum`` module
+        docstring): ``"measured"`` (default, every figure) line tension ``gamma = g`` on hexagons
+        (``g / 2`` on triangles); ``"supplement"`` the printed ``gamma = 4 g / sqrt(3)`` (hexagons
+        only), so the same ``Gamma`` binds ``sqrt(3)/4 = 0.433`` times as strongly. Ignored with
+        ``g``.
     box : int
         Box side in lattice cells (>= 2). The paper: 60 (200 particles) and 30 (300 particles).
     n : int
@@ -353,9 +413,12 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
         Show a tqdm progress bar.
     T0, T_end : float
         Start temperature (default ``g``, or the bulk energy per particle when ``g = 0``) and the
-        geometric schedule's last non-zero one (default ``T0 / 1000``).
+        geometric schedule's last non-zero one (default ``T0 / 1000``), in energy units (the
+        particle's springs, as ``g``).
     record_every : int
         Attempted moves per record block (default ``n``, one sweep).
+    checkpoint_interval : float
+        Seconds between checkpoint saves (with ``checkpoint``).
     callback : callable or None
         Called after every chunk of blocks as ``callback(steps_done, total_steps, energy)``; an
         exception raised there stops the run after saving the checkpoint.
@@ -367,17 +430,52 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
         ``trajectory.Trajectory``): every ``trajectory_every`` record blocks (default: about 100
         frames over the run) the occupied sites' positions, type, the box, the step and the
         energy. A resumed run continues the file from its state.
+    trajectory_every : int or None
+        Record blocks between trajectory frames (default: about 100 frames over the run).
+    **option_fields
+        Fields of ``MonteCarloOptions`` (see ``options``), replacing those of ``options``.
 
     Returns
     -------
     AnnealResult
+        The final configuration (``sites``, ``energy``, ``bonds``, ``deformation``), the traces
+        per record block, acceptance rates, kernel counters, the ``params`` and ``seed`` that
+        define the run, and the ``state`` to continue it.
 
     Raises
     ------
     TypeError
         ``particle`` is not a particle model, or an unknown keyword.
     ValueError
-        Any other bad input, naming the parameter.
+        Any other bad input, naming the parameter (``g`` and ``Gamma`` both or neither, a
+        checkpoint of another run, too many particles for the box, ...).
+
+    See Also
+    --------
+    replica_exchange : Sampling at fixed temperatures, from the same chain.
+    read_checkpoint : The state an ``anneal`` checkpoint holds.
+
+    Examples
+    --------
+    Ten hexagons at the paper's point (ell = 5, nu = 0.9, Gamma = 0.5, in the measured convention)
+    in a 6 x 6 box, 20 sweeps of a linear schedule, with a fixed seed:
+
+    >>> from pyfrustrate import Hexagon
+    >>> from pyfrustrate.montecarlo import anneal
+    >>> particle = Hexagon.from_continuum(ell=5.0, nu=0.9)
+    >>> result = anneal(particle, Gamma=0.5, box=6, n=10, steps=200, seed=1, progress=False)
+    >>> round(result.g, 8)  # Gamma=0.5 as a binding energy per bond, spring units
+    0.00781588
+    >>> result.sites.shape, len(result.energy_trace), int(result.steps[-1])
+    ((10, 2), 20, 200)
+    >>> bool(abs(result.energy - (-result.g * result.bonds + result.deformation)) < 1e-12)
+    True
+
+    The same binding given as ``g``, with the same seed, is the same run:
+
+    >>> again = anneal(particle, g=result.g, box=6, n=10, steps=200, seed=1, progress=False)
+    >>> bool(again.bonds == result.bonds and (again.sites == result.sites).all())
+    True
     """
     g, box, n = box_run(particle, Gamma, g, convention, box, n)
     opts = chain_options(options, option_fields)

@@ -30,8 +30,25 @@ _METADATA = "metadata"
 
 
 def json_normalised(value):
-    """``value`` as it reads back from JSON (tuples as lists, numpy scalars as Python numbers):
-    the form in which signatures are compared."""
+    """``value`` as it reads back from JSON: the form in which signatures are compared.
+
+    Parameters
+    ----------
+    value : object
+        JSON-serialisable, numpy scalars and arrays allowed.
+
+    Returns
+    -------
+    object
+        Tuples as lists, numpy scalars as Python numbers.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from pyfrustrate.montecarlo.checkpoints import json_normalised
+    >>> json_normalised({"box": np.int64(6), "pair": (1, 2)})
+    {'box': 6, 'pair': [1, 2]}
+    """
     return json.loads(json.dumps(value, default=_to_builtin))
 
 
@@ -41,8 +58,26 @@ def _refused(path, reason: str) -> ValueError:
 
 
 def write_checkpoint(path, kind: str, signature: dict, metadata: dict, arrays: dict) -> None:
-    """Write a checkpoint of a run of ``kind`` atomically: ``metadata`` (JSON-serialisable
-    scalars, lists and dicts) and ``arrays`` (numeric numpy arrays)."""
+    """Write a checkpoint of a run of ``kind`` atomically.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file (an ``.npz`` archive; replaced atomically).
+    kind : str
+        The kind of run (``"anneal"``, ``"replica_exchange"``).
+    signature : dict
+        The run's defining parameters.
+    metadata : dict
+        JSON-serialisable scalars, lists and dicts of the state.
+    arrays : dict
+        Numeric numpy arrays of the state.
+
+    Raises
+    ------
+    TypeError
+        An array that is not numeric (it could not be read back without unpickling).
+    """
     header = dict(format=FORMAT, version=FORMAT_VERSION, kind=kind, signature=signature, state=metadata)
     entries: dict[str, Any] = {name: np.asarray(a) for name, a in arrays.items()}
     for name, a in entries.items():
@@ -56,9 +91,32 @@ def write_checkpoint(path, kind: str, signature: dict, metadata: dict, arrays: d
 
 
 def read_checkpoint_file(path, kind: str, signature: dict | None = None) -> tuple[dict, dict]:
-    """``(metadata, arrays)`` of the checkpoint at ``path`` written by a run of ``kind``; with
-    ``signature``, refused unless the run that wrote it had the same one (the differing
-    parameters are named). Nothing in the file is executed."""
+    """``(metadata, arrays)`` of the checkpoint at ``path`` written by a run of ``kind``.
+
+    Nothing in the file is executed.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The checkpoint file.
+    kind : str
+        The kind of run expected.
+    signature : dict or None, optional
+        The run's defining parameters: refused unless the run that wrote the file had the same
+        ones (the differing parameters are named). None accepts any run of ``kind``.
+
+    Returns
+    -------
+    tuple of (dict, dict)
+        The state's metadata (with the file's ``signature``) and its arrays.
+
+    Raises
+    ------
+    FileNotFoundError
+        No file at ``path``.
+    ValueError
+        A file that is not a checkpoint of this kind (and signature), naming it.
+    """
     try:
         archive = np.load(path, allow_pickle=False)
         if not hasattr(archive, "files"):  # a bare .npy array

@@ -1,5 +1,8 @@
-"""Drawing a Monte Carlo configuration: every particle as a polygon at its lattice site, one colour
-per cluster, each cluster unwrapped across the periodic boundary (relaxed shapes on request)."""
+"""Drawing a Monte Carlo configuration, one colour per cluster.
+
+Every particle is a polygon at its lattice site, each cluster unwrapped across the periodic
+boundary (relaxed shapes on request).
+"""
 from __future__ import annotations
 
 import numpy as np
@@ -11,8 +14,10 @@ __all__ = ["draw_snapshot"]
 
 
 def _reference_outlines(coords, tiling):
-    """Outline polygons (n, m, 2) of particles at rest without mismatch: their site centres plus
-    the kernel's corner offsets, for the outline slots (``plotting.OUTLINE_SLOTS``)."""
+    """Outline polygons (n, m, 2) of particles at rest without mismatch.
+
+    Their site centres plus the kernel's corner offsets, for the outline slots
+    (``plotting.OUTLINE_SLOTS``)."""
     from ..plotting import OUTLINE_SLOTS
 
     facts = tiling_facts(tiling)
@@ -22,13 +27,47 @@ def _reference_outlines(coords, tiling):
 
 
 def draw_snapshot(sites, box, ax=None, particle=None, *, magnify=1.0, cmap="tab10", outline=True, tiling=None):
-    """Draw particles as polygons at their lattice positions, one colour per cluster (isolated
-    particles grey), each cluster unwrapped (so a cluster across the periodic boundary looks
-    connected) and placed with its centre inside the box, whose outline is drawn.
+    """Draw particles as polygons at their lattice positions, one colour per cluster.
 
-    With ``particle`` given, finite clusters are drawn in their relaxed shapes (linear solve),
-    displacements from the regular reference magnified by ``magnify``; wrapped clusters stay
-    regular. ``tiling`` defaults to the particle's, else the hexagon's. Returns the matplotlib axes.
+    Isolated particles are grey; each cluster is unwrapped (so a cluster across the periodic
+    boundary looks connected) and placed with its centre inside the box, whose outline is drawn.
+
+    Parameters
+    ----------
+    sites : array_like, shape (n, 2) or (n, 3), int
+        Occupied sites in lattice coordinates (``BoxState.sites``).
+    box : int
+        Box side, in lattice cells.
+    ax : matplotlib.axes.Axes or None, optional
+        Where to draw (None: a new figure).
+    particle : Hexagon, RandomHexagon, Triangle or None, optional
+        With a particle, finite clusters are drawn in their relaxed shapes (linear solve);
+        wrapped clusters stay regular.
+    magnify : float, keyword only
+        Factor on the displacements from the regular reference (with ``particle``).
+    cmap : str or matplotlib colormap, keyword only
+        Colours of the clusters.
+    outline : bool, keyword only
+        Draw the box's outline (dotted, beneath the particles).
+    tiling : {"hexagon", "triangle"} or None, keyword only
+        The tiling; defaults to the particle's, else the hexagon's.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes drawn on.
+
+    Raises
+    ------
+    ValueError
+        Bad ``sites`` or ``box`` (``clusters``), named.
+
+    Examples
+    --------
+    >>> from pyfrustrate.montecarlo import draw_snapshot
+    >>> ax = draw_snapshot([(0, 0), (1, 0), (3, 3)], box=6)
+    >>> len(ax.collections[0].get_paths())  # one polygon per particle
+    3
     """
     import matplotlib.pyplot as plt
     from ..plotting import OUTLINE_SLOTS

@@ -23,9 +23,33 @@ __all__ = ["ChainState", "new_chain", "particle_signature", "drive", "box_run"]
 
 
 def box_run(particle, Gamma, g, convention, box, n) -> tuple[float, int, int]:
-    """``(g, box, n)`` of a run checked: ``particle`` a particle model (else ``TypeError``), the
-    binding (``options.binding``), the box side in [2, 30000] and fewer particles than sites
-    (a move needs an empty site); ``ValueError`` naming the parameter otherwise."""
+    """``(g, box, n)`` of a run, checked.
+
+    Parameters
+    ----------
+    particle : Hexagon, RandomHexagon or Triangle
+        The run's particle.
+    Gamma, g : float or None
+        The binding, exactly one (``options.binding``).
+    convention : {"measured", "supplement"}
+        How ``Gamma`` maps to ``g``.
+    box : int
+        Box side in lattice cells, in [2, 30000].
+    n : int
+        Number of particles, fewer than the box's sites (a move needs an empty site).
+
+    Returns
+    -------
+    tuple of (float, int, int)
+        ``g`` (binding energy per bound pair of sides, spring units), ``box`` and ``n``.
+
+    Raises
+    ------
+    TypeError
+        ``particle`` is not a particle model.
+    ValueError
+        Any other bad value, naming the parameter.
+    """
     check_particle(particle)
     g = binding(particle, Gamma=Gamma, g=g, convention=convention)
     box = integer("box", box, 2, 30000)
@@ -37,8 +61,19 @@ def box_run(particle, Gamma, g, convention, box, n) -> tuple[float, int, int]:
 
 
 def particle_signature(particle) -> dict:
-    """What identifies a particle in a checkpoint: its parameters (spring particles), or its type
-    and a digest of ``M`` (random ones)."""
+    """What identifies a particle in a checkpoint.
+
+    Parameters
+    ----------
+    particle : Hexagon, RandomHexagon or Triangle
+        The run's particle.
+
+    Returns
+    -------
+    dict
+        Its parameters (spring particles), or its type, ``eps`` and a digest of ``M`` (random
+        ones).
+    """
     if hasattr(particle, "M"):
         return dict(type=type(particle).__name__, eps=float(particle.eps),
                     M=hashlib.sha256(np.ascontiguousarray(particle.M, dtype=float).tobytes()).hexdigest())
@@ -49,8 +84,30 @@ def particle_signature(particle) -> dict:
 
 
 def new_chain(particle, g: float, box: int, n: int, seed: int, options: MonteCarloOptions, state=None):
-    """A kernel chain of ``n`` particles at random in the box, its generator seeded by ``seed``,
-    or continuing ``state`` (a ``ChainState`` of the same box and particles)."""
+    """A kernel chain of ``n`` particles at random in the box, or continuing ``state``.
+
+    Parameters
+    ----------
+    particle : Hexagon, RandomHexagon or Triangle
+        The run's particle.
+    g : float
+        Binding energy per bound pair of sides, spring units.
+    box : int
+        Box side, in lattice cells.
+    n : int
+        Number of particles.
+    seed : int
+        Seed of the chain's ``std::mt19937_64`` (unused when ``state`` is given).
+    options : MonteCarloOptions
+        The chain's moves and relaxation.
+    state : ChainState or None
+        A state of the same box and particles to continue.
+
+    Returns
+    -------
+    _kernel.MonteCarlo
+        The chain.
+    """
     return _kernel.MonteCarlo(particle._kernel_model, g, box, n, seed, state=state,
                               **options.kernel_arguments(particle))
 
@@ -65,7 +122,18 @@ ChainState = _kernel.MonteCarloState
 
 
 def chain_states_to_disk(states) -> tuple[dict, dict]:
-    """(metadata, arrays) of a list of chain states, for ``write_checkpoint``."""
+    """(metadata, arrays) of a list of chain states, for ``write_checkpoint``.
+
+    Parameters
+    ----------
+    states : list of ChainState
+        The chains of one run (same tiling and box).
+
+    Returns
+    -------
+    tuple of (dict, dict)
+        JSON-serialisable metadata and numeric arrays (one leading axis over ``states``).
+    """
     metadata = dict(tiling=states[0].tiling, box=states[0].box, rng_states=[s.rng_state for s in states],
                     deformations=[s.deformation for s in states], counters=[s.counters for s in states])
     arrays = dict(particles=np.stack([np.asarray(s.particles, np.int32) for s in states]),
@@ -74,7 +142,25 @@ def chain_states_to_disk(states) -> tuple[dict, dict]:
 
 
 def chain_states_from_disk(path, metadata: dict, arrays: dict) -> list:
-    """The chain states ``chain_states_to_disk`` wrote, or ValueError naming the file."""
+    """The chain states ``chain_states_to_disk`` wrote.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The checkpoint file (named in errors).
+    metadata, arrays : dict
+        What ``checkpoints.read_checkpoint_file`` read from it.
+
+    Returns
+    -------
+    list of ChainState
+        The chains' states.
+
+    Raises
+    ------
+    ValueError
+        Incomplete or inconsistent state, naming the file.
+    """
     try:
         parts = zip(arrays["particles"], metadata["rng_states"], metadata["deformations"], metadata["counters"],
                     arrays["displacement"], arrays["known"], strict=True)
@@ -87,19 +173,56 @@ def chain_states_from_disk(path, metadata: dict, arrays: dict) -> list:
 
 
 def save(path, kind, signature, states, metadata, arrays) -> None:
-    """Checkpoint of a run of ``kind``: its chain ``states`` with the run's own ``metadata`` and
-    ``arrays``."""
+    """Checkpoint of a run of ``kind``, written atomically.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The checkpoint file.
+    kind : {"anneal", "replica_exchange"}
+        The kind of run.
+    signature : dict
+        The run's defining parameters.
+    states : list of ChainState
+        Its chains.
+    metadata, arrays : dict
+        The run's own scalars and numeric arrays.
+    """
     chain_metadata, chain_arrays = chain_states_to_disk(states)
     write_checkpoint(path, kind, signature, dict(metadata, **chain_metadata), dict(arrays, **chain_arrays))
 
 
 def drive(done: int, total: int, advance, save_state, *, checkpoint, checkpoint_interval: float, progress: bool,
           desc: str, unit: str, position=lambda done: done, scale: int | None = None) -> int:
-    """Advance a run from ``done`` to ``total`` units: ``advance(done) -> (new_done, postfix)``.
+    """Advance a run from ``done`` to ``total`` units.
 
-    ``save_state()`` writes the last completed unit's state when ``checkpoint`` is set: every
-    ``checkpoint_interval`` seconds, on any exception (re-raised) and at the end. The progress
-    bar counts ``position(done)`` out of ``scale`` (default ``total``)."""
+    Parameters
+    ----------
+    done, total : int
+        Units done and units of the whole run.
+    advance : callable
+        ``advance(done) -> (new_done, postfix)``, ``postfix`` a dict shown on the progress bar.
+    save_state : callable
+        ``save_state()`` writes the last completed unit's state; called when ``checkpoint`` is
+        set: every ``checkpoint_interval`` seconds, on any exception (re-raised) and at the end.
+    checkpoint : path or None
+        The checkpoint file (None: never save).
+    checkpoint_interval : float
+        Seconds between saves.
+    progress : bool
+        Show a tqdm progress bar.
+    desc, unit : str
+        The bar's description and unit.
+    position : callable
+        ``position(done)``: where the bar stands after ``done`` units.
+    scale : int or None
+        The bar's total (default ``total``).
+
+    Returns
+    -------
+    int
+        Units done, ``total``.
+    """
     from tqdm.auto import tqdm
 
     bar = tqdm(total=scale if scale is not None else total, initial=position(done), disable=not progress, unit=unit,

@@ -2,7 +2,7 @@
 
 ``K`` copies of the box (replicas) run the same chain as ``anneal`` (the same ``MonteCarloOptions``), each at one temperature of a ladder
 ``T_1 < ... < T_K``. After every round of ``exchange_every`` attempted moves per replica,
-neighbouring temperatures offer to swap their configurations, accepted with probability
+neighbouring temperatures offer to swap their configurations, accepted with probability::
 
     min(1, exp[(1/T_s - 1/T_{s+1}) (E_s - E_{s+1})])
 
@@ -46,8 +46,34 @@ __all__ = ["replica_exchange", "geometric_temperatures", "ReplicaState", "Replic
 
 
 def geometric_temperatures(T_min: float, T_max: float, count: int) -> np.ndarray:
-    """``count`` temperatures from ``T_min`` to ``T_max`` in geometric progression: the usual
-    ladder when the heat capacity varies slowly (equal swap rates between neighbours)."""
+    """``count`` temperatures from ``T_min`` to ``T_max`` in geometric progression.
+
+    The usual ladder when the heat capacity varies slowly (equal swap rates between neighbours).
+
+    Parameters
+    ----------
+    T_min, T_max : float
+        The coldest and the hottest temperature, ``0 < T_min < T_max``, finite, in energy units
+        (the particle's springs, as ``g``).
+    count : int
+        Number of temperatures, at least 2.
+
+    Returns
+    -------
+    ndarray, shape (count,)
+        The increasing ladder, from ``T_min`` to ``T_max`` inclusive.
+
+    Raises
+    ------
+    ValueError
+        Temperatures not positive, finite and increasing, or ``count`` below 2.
+
+    Examples
+    --------
+    >>> from pyfrustrate.montecarlo import geometric_temperatures
+    >>> geometric_temperatures(0.001, 0.1, 3).round(6).tolist()
+    [0.001, 0.01, 0.1]
+    """
     if not (math.isfinite(T_min) and math.isfinite(T_max) and 0 < T_min < T_max):
         raise ValueError(f"temperatures: need 0 < T_min < T_max, finite, got T_min={T_min!r}, T_max={T_max!r}")
     count = integer("count", count, 2)
@@ -60,14 +86,31 @@ def geometric_temperatures(T_min: float, T_max: float, count: int) -> np.ndarray
 class ReplicaState:
     """Everything a replica-exchange run needs to continue: a value.
 
-    ``replicas``: each replica's ``ChainState`` (``driver``); ``slot_of_replica[k]``: the temperature index
-    replica ``k`` holds; ``swap_rng``: the bit-generator state of the swap stream; ``rounds``:
-    rounds done; ``energy`` (rounds, K): the energy at each temperature after each round;
-    ``swaps_attempted`` and ``swaps_accepted`` (K - 1,): per neighbouring pair; ``best_energy``
-    and ``best_sites``: the lowest energy seen at the coldest temperature after a round and its
-    sites; ``round_trips``: how many times a replica came back to the coldest temperature after
-    reaching the hottest, ``last_end`` (K,): the end of the ladder each replica last visited
-    (-1: neither yet)."""
+    Pass it to ``replica_exchange(..., state=)`` (with the run's parameters) to continue the run.
+
+    Attributes
+    ----------
+    replicas : list of ChainState
+        Each replica's kernel chain state (``driver``), K of them.
+    slot_of_replica : ndarray, shape (K,), int
+        The temperature index replica ``k`` holds.
+    swap_rng : dict
+        The bit-generator state of the swap stream.
+    rounds : int
+        Rounds done.
+    energy : list of ndarray, each shape (K,)
+        The energy at each temperature after each round (spring units).
+    swaps_attempted, swaps_accepted : ndarray, shape (K - 1,), int
+        Swap offers and acceptances per neighbouring pair of temperatures.
+    best_energy : float
+        The lowest energy seen at the coldest temperature after a round.
+    best_sites : ndarray, shape (n, 2) (or (n, 3)), or None
+        Its sites, in lattice coordinates.
+    round_trips : int
+        How many times a replica came back to the coldest temperature after reaching the hottest.
+    last_end : ndarray, shape (K,), int
+        The end of the ladder each replica last visited (0 coldest, K - 1 hottest, -1 neither yet).
+    """
 
     replicas: list
     slot_of_replica: np.ndarray
@@ -84,14 +127,52 @@ class ReplicaState:
 
 @dataclass
 class ReplicaExchangeResult(BoxState):
-    """Outcome of ``replica_exchange``: the coldest temperature's configuration after the final
-    zero-temperature descent (``sites``, ``energy``, ``bonds``, ``deformation``), the ladder
-    (``temperatures``), the energy at each temperature after each round (``energy_trace``,
-    (rounds, K)), the swap acceptance of each neighbouring pair (``swap_acceptance``), the number
-    of replicas that went from the coldest to the hottest temperature and back (``round_trips``),
-    the lowest energy seen at the coldest temperature (``best_energy``, ``best_sites``), the final
-    ``state`` (to continue the run), kernel ``counters`` summed over replicas, ``seed``,
-    ``params``, ``elapsed`` seconds and whether the run ``resumed``."""
+    """Outcome of ``replica_exchange``.
+
+    Attributes
+    ----------
+    sites : ndarray, shape (n, 2) (or (n, 3) for triangles), int
+        The coldest temperature's configuration after the final zero-temperature descent, in
+        lattice coordinates (60-degree axes ``a1``, ``a2``; the third column the sublattice).
+    box : int
+        Box side, in lattice cells.
+    n : int
+        Number of particles.
+    g : float
+        Binding energy per bound pair of sides, spring units.
+    energy : float
+        ``-g * bonds + deformation`` of ``sites``, spring units.
+    bonds : int
+        Bound pairs of sides of ``sites``.
+    deformation : float
+        Relaxed deformation energy of ``sites``' clusters, spring units.
+    temperatures : ndarray, shape (K,)
+        The ladder.
+    energy_trace : ndarray, shape (rounds, K)
+        The energy at each temperature after each round.
+    swap_acceptance : ndarray, shape (K - 1,)
+        Swap acceptance of each neighbouring pair (nan for a pair never offered a swap).
+    round_trips : int
+        Replicas that went from the coldest to the hottest temperature and back.
+    best_energy : float
+        The lowest energy seen at the coldest temperature after a round.
+    best_sites : ndarray, shape (n, 2) (or (n, 3))
+        Its sites.
+    state : ReplicaState
+        The final state (to continue the run), before the descent.
+    counters : dict
+        Kernel counters summed over replicas (as ``AnnealResult.counters``).
+    seed : int
+        The seed of every stream of the run.
+    params : dict
+        Everything that defines the run.
+    elapsed : float
+        Wall time of this call, seconds.
+    resumed : bool
+        Whether the run started from a checkpoint or a given state.
+    tiling : str
+        The particle's tiling.
+    """
 
     temperatures: np.ndarray = field(repr=False)
     energy_trace: np.ndarray = field(repr=False)
@@ -129,17 +210,25 @@ def replica_exchange(particle, temperatures, *, g=None, Gamma=None, convention="
         Anything else raises ``TypeError``.
     temperatures : sequence of float
         The ladder, increasing, positive (``geometric_temperatures``); at least two.
-    g, Gamma, convention : keyword only
-        The binding, as in ``anneal``: ``g`` (binding energy per bound pair of sides) or
-        ``Gamma`` (dimensionless line tension in ``convention``), exactly one.
+    g : float, keyword only
+        The binding energy per bound pair of sides (>= 0), in the particle's spring units, as in
+        ``anneal`` (not the dimensionless ``Gamma``).
+    Gamma : float, keyword only
+        Or the dimensionless line tension (``Hexagon``, ``Triangle``), converted to ``g`` in
+        ``convention``. Exactly one of ``g`` and ``Gamma``, by keyword.
+    convention : {"measured", "supplement"}, keyword only
+        How ``Gamma`` maps to ``g``, as in ``anneal``: ``"measured"`` (default) ``gamma = g``,
+        ``"supplement"`` the printed ``gamma = 4 g / sqrt(3)``.
     box, n : int
         As in ``anneal``.
     rounds : int
         Exchange rounds; each replica attempts ``exchange_every`` moves per round (default ``n``,
         one sweep), so a run costs ``K * rounds * exchange_every`` moves.
+    exchange_every : int or None
+        Attempted moves per replica between two swap rounds (default ``n``).
     seed : int or None
         Seeds every stream of the run (module docstring); None draws one, which the result records.
-    options : MonteCarloOptions or None, and its fields as keywords
+    options : MonteCarloOptions or None
         The chain of each replica, as in ``anneal`` (the same defaults).
     quench_sweeps : int
         Sweeps at T = 0 (a descent: every move that lowers the energy is taken) of the coldest
@@ -152,20 +241,63 @@ def replica_exchange(particle, temperatures, *, g=None, Gamma=None, convention="
         File to resume from if it exists (same parameters) and to save the state to every
         ``checkpoint_interval`` seconds, on interruption and at the end: a data-only archive
         (``checkpoints``), written atomically; any other file is refused with a ``ValueError``.
+    checkpoint_interval : float
+        Seconds between checkpoint saves (with ``checkpoint``).
+    progress : bool
+        Show a tqdm progress bar.
+    record_sites : bool
+        Keep, in the result's ``params["sites_by_slot"]``, the sites at every temperature after
+        every round (for tests; memory ``rounds * K * n`` integers).
     initial_sites : (n, 2) array (or (n, 3) with a sublattice) or None
         Start every replica from these sites (as ``BoxState.sites``: a finished anneal's
         configuration, to sample around it at low temperature) instead of particles at random.
         Ignored when resuming. Part of the checkpoint's parameters.
-    record_sites : bool
-        Keep, in the result's ``params["sites_by_slot"]``, the sites at every temperature after
-        every round (for tests; memory ``rounds * K * n`` integers).
     trajectory : path or None
         Write the coldest temperature's configuration to this GSD file every
         ``trajectory_every`` rounds (default: about 100 frames), as ``anneal`` does
         (``configuration.step``: the round).
+    trajectory_every : int or None
+        Rounds between trajectory frames (default: about 100 frames over the run).
+    **option_fields
+        Fields of ``MonteCarloOptions``, replacing those of ``options``.
 
-    Bad input raises as in ``anneal``: ``TypeError`` for a non-particle or an unknown keyword,
-    ``ValueError`` naming the parameter otherwise.
+    Returns
+    -------
+    ReplicaExchangeResult
+        The coldest temperature's configuration after a descent, the energy traces, swap
+        acceptances, round trips, the best configuration seen and the ``state`` to continue.
+
+    Raises
+    ------
+    TypeError
+        ``particle`` is not a particle model, or an unknown keyword.
+    ValueError
+        Any other bad input, naming the parameter (as in ``anneal``).
+
+    See Also
+    --------
+    anneal : Simulated annealing, from the same chain.
+    geometric_temperatures : The usual ladder.
+
+    Examples
+    --------
+    Ten hexagons at ell = 5, nu = 0.9 in a 6 x 6 box, the binding given as a binding energy per
+    bond (``g``, spring units: the paper's ``Gamma = 0.5`` in the measured convention), three
+    temperatures from a tenth of ``g`` to ``g``, 5 rounds, one thread, a fixed seed:
+
+    >>> from pyfrustrate import Hexagon
+    >>> from pyfrustrate.montecarlo import geometric_temperatures, replica_exchange
+    >>> particle = Hexagon.from_continuum(ell=5.0, nu=0.9)
+    >>> g = 0.00781588
+    >>> ladder = geometric_temperatures(0.1 * g, g, 3)
+    >>> result = replica_exchange(particle, ladder, g=g, box=6, n=10, rounds=5, threads=1, seed=2,
+    ...                           quench_sweeps=5, progress=False)
+    >>> result.energy_trace.shape, result.swap_acceptance.shape, result.sites.shape
+    ((5, 3), (2,), (10, 2))
+    >>> bool(abs(result.energy - (-g * result.bonds + result.deformation)) < 1e-12)
+    True
+    >>> bool(result.best_energy <= result.energy_trace[:, 0].min())
+    True
     """
     g, box, n = box_run(particle, Gamma, g, convention, box, n)
     try:
@@ -318,9 +450,29 @@ def _save(path, signature, state: ReplicaState) -> None:
 
 
 def read_checkpoint(path, signature=None) -> ReplicaState:
-    """The ``ReplicaState`` a ``replica_exchange`` checkpoint holds; with ``signature``, refused
-    when it was written by a run with other parameters. Any file that is not such a checkpoint
-    is refused with a ``ValueError`` naming it (``checkpoints``)."""
+    """The ``ReplicaState`` a ``replica_exchange`` checkpoint holds.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The checkpoint file (``replica_exchange(..., checkpoint=path)``).
+    signature : dict or None, optional
+        A run's defining parameters; the file is refused when it was written by a run with other
+        ones. None accepts any ``replica_exchange`` checkpoint.
+
+    Returns
+    -------
+    ReplicaState
+        The state to pass to ``replica_exchange(..., state=)``.
+
+    Raises
+    ------
+    FileNotFoundError
+        No file at ``path``.
+    ValueError
+        The file is not a checkpoint of a ``replica_exchange`` run or, with ``signature``, of
+        this run; the message names it (``checkpoints``).
+    """
     metadata, arrays = read_checkpoint_file(path, "replica_exchange", signature)
     replicas = chain_states_from_disk(path, metadata, arrays)
     try:

@@ -33,16 +33,63 @@ DEFAULTS_MEASURED = "README.md (paper profile's Monte Carlo diagram), config/pap
 
 
 def check_particle(particle):
-    """The particle's kernel model, or ``TypeError`` when ``particle`` is not a particle model
-    (``_checks.particle``, the check every entry point shares)."""
+    """The particle's kernel model (``_checks.particle``, the check every entry point shares).
+
+    Parameters
+    ----------
+    particle : Hexagon, RandomHexagon or Triangle
+        The particle model of a run.
+
+    Returns
+    -------
+    object
+        Its compiled model (``particle._kernel_model``).
+
+    Raises
+    ------
+    TypeError
+        ``particle`` is not a particle model.
+    """
     return _checks.particle("particle", particle)._kernel_model
 
 
 def binding(particle, *, Gamma=None, g=None, convention="measured") -> float:
-    """The binding energy ``g`` of a run: given as ``g`` (spring units, >= 0), or from the
-    dimensionless line tension ``Gamma`` of a spring particle (``Hexagon``, ``Triangle``) in
-    ``convention`` (``continuum.mapping``: ``Gamma`` is linear in ``g``). Exactly one of the two,
-    by keyword; ``ValueError`` otherwise, naming them."""
+    """The binding energy ``g`` of a run, given as ``g`` or as ``Gamma`` with its convention.
+
+    Parameters
+    ----------
+    particle : Hexagon, RandomHexagon or Triangle
+        The run's particle (its springs set the units; ``Gamma`` needs a spring particle).
+    Gamma : float or None, keyword only
+        The dimensionless line tension of a spring particle (``Hexagon``, ``Triangle``), >= 0,
+        converted in ``convention`` (``continuum.mapping``: ``Gamma`` is linear in ``g``).
+    g : float or None, keyword only
+        The binding energy per bound pair of sides, >= 0, in the particle's spring units.
+    convention : {"measured", "supplement"}, keyword only
+        How ``Gamma`` maps to ``g`` (``continuum.BINDING_CONVENTIONS``): ``"measured"``
+        ``gamma = g`` (hexagons; ``g / 2`` triangles), ``"supplement"`` ``gamma = 4 g / sqrt(3)``.
+
+    Returns
+    -------
+    float
+        ``g``, the binding energy per bound pair of sides in spring units.
+
+    Raises
+    ------
+    ValueError
+        Both or neither of ``Gamma`` and ``g``, a negative one, ``Gamma`` for a particle without
+        a continuum mapping (``RandomHexagon``), or an unknown convention.
+
+    Examples
+    --------
+    >>> from pyfrustrate import Hexagon
+    >>> from pyfrustrate.montecarlo import binding
+    >>> particle = Hexagon.from_continuum(ell=5.0, nu=0.9)
+    >>> round(binding(particle, Gamma=0.5), 8), binding(particle, g=0.01)
+    (0.00781588, 0.01)
+    >>> round(binding(particle, Gamma=0.5, convention="supplement") / binding(particle, Gamma=0.5), 4)
+    0.433
+    """
     if (Gamma is None) == (g is None):
         raise ValueError("give the binding as exactly one of Gamma= (dimensionless line tension, with convention=) "
                          f"or g= (binding energy per bound pair of sides), got Gamma={Gamma!r}, g={g!r}")
@@ -60,12 +107,43 @@ def binding(particle, *, Gamma=None, g=None, convention="measured") -> float:
 class MonteCarloOptions:
     """How a Monte Carlo chain moves and relaxes (the ``anneal`` docstring explains each field).
 
-    ``method`` ``"auto"`` (``relaxation.AUTO_METHOD``), ``"newton"``, ``"lbfgs"`` or ``"linear"``;
-    ``tol`` relative relaxation tolerance (> 0); ``max_iter`` evaluations per L-BFGS relaxation;
-    ``warm_start`` (Newton: from the parents' relaxed displacements; L-BFGS: from the linear
-    solution); ``delayed_acceptance`` the bond-count screen; ``cluster_moves``, ``cluster_link``
-    in [0, 1]; ``bonded_moves``, ``surface_moves`` in [0, 1); ``cache`` the cluster-energy cache
-    (speed only). Made once, checked once: a bad value raises ``ValueError`` naming it."""
+    Made once, checked once: a bad value raises ``ValueError`` naming it.
+
+    Parameters
+    ----------
+    method : {"auto", "newton", "lbfgs", "linear"}
+        Cluster relaxation; ``"auto"`` is ``relaxation.AUTO_METHOD``.
+    tol : float
+        Relative relaxation tolerance (> 0): max gradient <= ``tol * particle.force_scale``.
+    max_iter : int
+        Energy evaluations per L-BFGS relaxation, in [1, 2**31 - 1].
+    warm_start : bool
+        Newton: from the parents' relaxed displacements; L-BFGS: from the linear solution.
+    delayed_acceptance : bool
+        Screen each move with the bond count before relaxing (Christen & Fox 2005).
+    cluster_moves : float
+        Probability of a cluster move, in [0, 1].
+    cluster_link : float
+        Probability of following each bond when growing a moved cluster, in [0, 1].
+    bonded_moves : float
+        Probability of moving a particle next to another one, in [0, 1).
+    surface_moves : float
+        Probability of a surface move, in [0, 1).
+    cache : bool
+        The cluster-energy cache (speed only).
+
+    Raises
+    ------
+    ValueError
+        A field out of range or of the wrong type, named.
+
+    Examples
+    --------
+    >>> from pyfrustrate.montecarlo import MonteCarloOptions
+    >>> options = MonteCarloOptions(cluster_moves=0.0)
+    >>> options.resolved_method, options.replace(method="lbfgs").resolved_method
+    ('newton', 'lbfgs')
+    """
 
     method: str = "auto"
     tol: float = 1e-3
@@ -105,21 +183,56 @@ class MonteCarloOptions:
         return AUTO_METHOD if self.method == "auto" else self.method
 
     def replace(self, **changes) -> "MonteCarloOptions":
-        """A copy with ``changes``, checked as a new one."""
+        """A copy with ``changes``, checked as a new one.
+
+        Parameters
+        ----------
+        **changes
+            Fields and their new values.
+
+        Returns
+        -------
+        MonteCarloOptions
+            The copy.
+
+        Raises
+        ------
+        ValueError
+            A changed value out of range.
+        TypeError
+            A keyword that is no field.
+        """
         return dataclasses.replace(self, **changes)
 
     def signature(self) -> dict:
-        """What a checkpoint records of these options: every field that changes the chain (the
-        cache changes only its speed)."""
+        """What a checkpoint records of these options.
+
+        Returns
+        -------
+        dict
+            Every field that changes the chain (not ``cache``, which changes only its speed),
+            ``method`` resolved.
+        """
         d = dataclasses.asdict(self)
         d.pop("cache")
         d["method"] = self.resolved_method
         return d
 
     def kernel_arguments(self, particle) -> dict:
-        """Keyword arguments of ``_kernel.MonteCarlo`` for ``particle``: the tolerance in force
-        units, the surrogate's deformation energy per bond (bulk energy per particle over bonds
-        per bulk particle), warm starts as the method takes them."""
+        """Keyword arguments of ``_kernel.MonteCarlo`` for ``particle``.
+
+        Parameters
+        ----------
+        particle : Hexagon, RandomHexagon or Triangle
+            The run's particle.
+
+        Returns
+        -------
+        dict
+            The tolerance in force units, the surrogate's deformation energy per bond (bulk
+            energy per particle over bonds per bulk particle), warm starts as the method takes
+            them, and the move probabilities.
+        """
         method = self.resolved_method
         tiling = tiling_facts(particle.tiling)
         return dict(method=method, tol=self.tol * particle.force_scale, max_iter=self.max_iter, cache=self.cache,
@@ -131,8 +244,27 @@ class MonteCarloOptions:
 
 
 def chain_options(options, fields: dict) -> MonteCarloOptions:
-    """The options of a run: ``options`` (default ``MonteCarloOptions()``) with the keyword
-    ``fields`` replaced; ``TypeError`` for a keyword that is no field."""
+    """The options of a run: ``options`` with the keyword ``fields`` replaced.
+
+    Parameters
+    ----------
+    options : MonteCarloOptions or None
+        The base options (None: ``MonteCarloOptions()``).
+    fields : dict
+        Fields given as keywords to an entry point.
+
+    Returns
+    -------
+    MonteCarloOptions
+        The options, checked.
+
+    Raises
+    ------
+    TypeError
+        A keyword that is no field, or ``options`` of another type.
+    ValueError
+        A field out of range.
+    """
     names = {f.name for f in dataclasses.fields(MonteCarloOptions)}
     unknown = sorted(set(fields) - names)
     if unknown:
