@@ -355,13 +355,12 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
 
         ``method`` {"auto", "newton", "lbfgs", "linear"}: cluster relaxation. ``"auto"``
         (default) runs ``relaxation.AUTO_METHOD``, Newton: the relaxed energy to ``tol`` by
-        Newton steps from the linear solution (faster than L-BFGS: measured at ell = 5,
-        eps = 0.01, 2000 sweeps, 200 in 60 x 60 3.5 s against 4.3 s; 300 in 30 x 30 177 s
-        against ~3x that); ``"lbfgs"``: the same minimum by L-BFGS warm-started from the linear
-        solution (``warm_start=False``: from the bulk reference); ``"linear"``: the linearised
-        solve alone, about 4.7x faster than Newton in a dense box but biased upwards for loosely
-        bound clusters (final box energies off by ~1-3 % at eps = 0.01, ell = 5): an
-        approximation.
+        Newton steps from the linear solution (faster than L-BFGS in sparse and dense boxes:
+        benchmarks/bench_montecarlo.py measures both); ``"lbfgs"``: the same minimum by L-BFGS
+        warm-started from the linear solution (``warm_start=False``: from the bulk reference);
+        ``"linear"``: the linearised solve alone, faster than Newton in a dense box but biased
+        upwards for loosely bound clusters (the bias is measured by benchmarks/bench_tradeoff.py,
+        ``figX_speed_accuracy``): an approximation.
 
         ``tol``: relaxation tolerance, relative as in ``relax``: max gradient <=
         ``tol * particle.force_scale``. The default 1e-3 leaves relative energy errors near 1e-6
