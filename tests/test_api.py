@@ -38,19 +38,6 @@ def public_submodules() -> list[str]:
     return sorted(names)
 
 
-# pyfrustrate/replica_exchange.py is being moved to pyfrustrate/montecarlo/exchange.py (its long-term
-# home); until then the function ``pf.replica_exchange``, which README and benchmarks call, keeps
-# that name, and the old module is reached by ``import pyfrustrate.replica_exchange``. Strict: once
-# the file is gone this case disappears, and while it exists the shadowing must still be real.
-INTERIM_SHADOWED = {"pyfrustrate.replica_exchange"} if (PACKAGE / "replica_exchange.py").is_file() else set()
-
-
-def interim(name: str):
-    marks = [pytest.mark.xfail(strict=True, reason="module to move to montecarlo/exchange")] \
-        if name in INTERIM_SHADOWED else []
-    return pytest.param(name, marks=marks)
-
-
 def test_submodules_are_found():
     found = public_submodules()
     for name in ("pyfrustrate.ansatz", "pyfrustrate.ground_states", "pyfrustrate.plotting", "pyfrustrate.relaxation",
@@ -58,7 +45,7 @@ def test_submodules_are_found():
         assert name in found
 
 
-@pytest.mark.parametrize("name", [interim(n) for n in public_submodules()])
+@pytest.mark.parametrize("name", public_submodules())
 def test_every_submodule_is_an_attribute_of_the_package(name):
     # In a fresh interpreter: this process's other tests may have imported the submodule already,
     # which binds it on its package whatever pyfrustrate/__init__.py does.
@@ -69,7 +56,7 @@ def test_every_submodule_is_an_attribute_of_the_package(name):
     assert done.returncode == 0, done.stderr[-2000:]
 
 
-@pytest.mark.parametrize("name", [interim(n) for n in public_submodules()])
+@pytest.mark.parametrize("name", public_submodules())
 def test_no_attribute_hides_a_submodule(name):
     parent, _, short = name.rpartition(".")
     module = importlib.import_module(name)
