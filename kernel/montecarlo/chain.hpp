@@ -132,12 +132,13 @@ private:
     // parent_factor: `factor` receives the cluster relaxed and factorised for its children (null
     // if not relaxed here or too small).
     double fresh_cluster_energy(const Cluster& cluster, std::vector<double>& displacement,
-                                std::shared_ptr<const RelaxedCluster>& factor);
-    double warm_energy(const Cluster& cluster, std::vector<double>& displacement, std::shared_ptr<const RelaxedCluster>& factor);
+                                std::shared_ptr<RelaxedCluster>& factor);
+    double warm_energy(const Cluster& cluster, std::vector<double>& displacement, std::shared_ptr<RelaxedCluster>& factor);
     // parent_factor: the stored cluster most of `cluster`'s members belong to, if it differs from
-    // it by at most kMaxChangedParticles particles, and `sites` (the cluster's unwrapped sites)
-    // translated by whole boxes onto the parent's own unwrapped sites; nullptr otherwise.
-    const RelaxedCluster* parent_of(const Cluster& cluster, std::vector<Site>& sites) const;
+    // it by at most kMaxChangedParticles particles, factorised if it was not yet, and `sites` (the
+    // cluster's unwrapped sites) translated by whole boxes onto the parent's own unwrapped sites;
+    // nullptr otherwise.
+    const RelaxedCluster* parent_of(const Cluster& cluster, std::vector<Site>& sites);
     void forget_displacements(const std::vector<int>& sites);
     double scratch_deformation(bool canonical, bool cached, bool relabel);
     int new_cluster_id(double deformation);
@@ -155,7 +156,7 @@ private:
     std::int64_t bonds_ = 0;
     std::vector<double> site_displacement_;
     std::vector<char> site_known_;
-    std::vector<std::shared_ptr<const RelaxedCluster>> site_factor_;
+    std::vector<std::shared_ptr<RelaxedCluster>> site_factor_;
     ChainCounters counters;
     MoveCounters move_counters_;
     // Derived from the state.
@@ -169,14 +170,14 @@ private:
     std::vector<int> moved_;  // particles of the move under test, in proposal order
     std::vector<double> saved_displacement_;
     std::vector<char> saved_known_;
-    std::vector<std::shared_ptr<const RelaxedCluster>> saved_factor_;
+    std::vector<std::shared_ptr<RelaxedCluster>> saved_factor_;
     ClusterEnergyCache cache_;
     std::vector<int> symmetries_;  // lattice operations under which shapes are equivalent
     ClusterWorkspace ws_, ws_canonical_;
     std::vector<Cluster> fresh_;         // clusters after the move under test
     std::vector<double> fresh_energy_;
     std::vector<std::vector<double>> fresh_displacement_;
-    std::vector<std::shared_ptr<const RelaxedCluster>> fresh_factor_;
+    std::vector<std::shared_ptr<RelaxedCluster>> fresh_factor_;
     std::vector<int> old_ids_;
     const Tiling& tiling() const { return tiling_of(Model::kTiling); }
     static std::uint64_t next_id() {
@@ -559,7 +560,7 @@ inline double MonteCarlo<Model>::cluster_energy(const Cluster& cl) {
 
 template <class Model>
 inline double MonteCarlo<Model>::fresh_cluster_energy(const Cluster& cl, std::vector<double>& displacement,
-                                                      std::shared_ptr<const RelaxedCluster>& factor) {
+                                                      std::shared_ptr<RelaxedCluster>& factor) {
     displacement.clear();
     factor.reset();
     if (!options_.parent_start || cl.rank() != 0) return cluster_energy(cl);
@@ -570,11 +571,11 @@ inline double MonteCarlo<Model>::fresh_cluster_energy(const Cluster& cl, std::ve
 }
 
 template <class Model>
-inline const RelaxedCluster* MonteCarlo<Model>::parent_of(const Cluster& cl, std::vector<Site>& sites) const {
-    const RelaxedCluster* best = nullptr;
+inline const RelaxedCluster* MonteCarlo<Model>::parent_of(const Cluster& cl, std::vector<Site>& sites) {
+    RelaxedCluster* best = nullptr;
     int best_count = 0, best_member = -1;
     for (std::size_t p = 0; p < cl.members.size(); ++p) {
-        const RelaxedCluster* f = site_factor_[cl.members[p]].get();
+        RelaxedCluster* f = site_factor_[cl.members[p]].get();
         if (!f || f == best) continue;
         int count = 0;
         for (const int m : cl.members) count += site_factor_[m].get() == f;
@@ -582,6 +583,18 @@ inline const RelaxedCluster* MonteCarlo<Model>::parent_of(const Cluster& cl, std
     }
     const int np = static_cast<int>(cl.members.size());
     if (!best || best->topology.n_particles() - best_count + np - best_count > kMaxChangedParticles) return nullptr;
+    if (!best->factor) {
+        // Stored unfactorised (relaxed without a parent): factorised once, on first use, so that
+        // the clusters of rejected moves and those never changed again cost no factorisation.
+        ++counters.relax.factorizations;
+        std::shared_ptr<RelaxedCluster> made = factorised_cluster(model_, best->topology, best->displacement, best->displacement);
+        if (!made) {  // its Hessian is not positive definite: it serves no child
+            for (const int m : cl.members)
+                if (site_factor_[m].get() == best) site_factor_[m] = nullptr;
+            return nullptr;
+        }
+        *best = std::move(*made);
+    }
     // The parent was unwrapped from another start: align a shared member (modified_cluster
     // matches particles by site).
     const int m = cl.members[best_member];
@@ -597,7 +610,7 @@ inline const RelaxedCluster* MonteCarlo<Model>::parent_of(const Cluster& cl, std
 
 template <class Model>
 inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<double>& displacement,
-                                             std::shared_ptr<const RelaxedCluster>& factor) {
+                                             std::shared_ptr<RelaxedCluster>& factor) {
     constexpr int C = Model::kCornerCount;
     const bool keeps_factor =
         options_.parent_factor && static_cast<int>(cl.members.size()) >= options_.parent_factor_min_particles;
@@ -674,7 +687,13 @@ inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<doub
     Vector u;
     std::shared_ptr<RelaxedCluster> own;
     const double e = relaxed_cluster_energy(model_, topology, options_.relax, counters.relax, warm ? &start : nullptr, &u,
-                                            parent, keeps_factor ? &own : nullptr);
+                                            parent, parent ? &own : nullptr);
+    if (keeps_factor && !own && u.size() == 2 * topology.n_corners()) {
+        // Relaxed without its parent's factor: kept unfactorised until a child needs it (parent_of).
+        own = std::make_shared<RelaxedCluster>();
+        own->topology = topology;
+        own->displacement = u;
+    }
     factor = std::move(own);
     if (u.size() == 2 * nc) {
         remove_rigid_motion(topology, u);

@@ -48,7 +48,7 @@ struct ChainState {
     // by its members; empty otherwise, and not carried by a state rebuilt from its arrays (the
     // chain then starts without). At most one per cluster of the box: a cluster's members take
     // its children's when a move is accepted, a vacated site drops its own.
-    std::vector<std::shared_ptr<const RelaxedCluster>> factors;
+    std::vector<std::shared_ptr<RelaxedCluster>> factors;
     ChainCounters counters;
     MoveCounters move_counters;  // each family's own (montecarlo/moves.hpp)
     // Which chain last returned this state, and when: a state handed straight back skips the
