@@ -586,14 +586,18 @@ inline const RelaxedCluster* MonteCarlo<Model>::parent_of(const Cluster& cl, std
     if (!best->factor) {
         // Stored unfactorised (relaxed without a parent): factorised once, on first use, so that
         // the clusters of rejected moves and those never changed again cost no factorisation.
+        // The factorised one replaces it at its sites (the stored one may be shared with copies
+        // of the state, run elsewhere: never modified); not positive definite: it serves no child.
         ++counters.relax.factorizations;
+        const std::shared_ptr<RelaxedCluster> held = site_factor_[cl.members[best_member]];  // alive through the loop
         std::shared_ptr<RelaxedCluster> made = factorised_cluster(model_, best->topology, best->displacement, best->displacement);
-        if (!made) {  // its Hessian is not positive definite: it serves no child
-            for (const int m : cl.members)
-                if (site_factor_[m].get() == best) site_factor_[m] = nullptr;
-            return nullptr;
+        const RelaxedCluster* stored = best;
+        best = made.get();
+        for (const Site& q : stored->topology.sites) {
+            std::shared_ptr<RelaxedCluster>& at = site_factor_[box_.index(q)];
+            if (at.get() == stored) at = made;
         }
-        *best = std::move(*made);
+        if (!best) return nullptr;
     }
     // The parent was unwrapped from another start: align a shared member (modified_cluster
     // matches particles by site).
@@ -605,7 +609,7 @@ inline const RelaxedCluster* MonteCarlo<Model>::parent_of(const Cluster& cl, std
             for (Site& s : sites) s[0] += di, s[1] += dj;
             return best;
         }
-    return nullptr;  // the site's factor is not its cluster's (cannot happen; cold then)
+    return nullptr;  // a cluster move carried the parent's factor to other sites: no parent
 }
 
 template <class Model>
