@@ -81,7 +81,8 @@ def main(argv=None):
                 "scaled": sweeps != 10_000, "goal_s": goal, "over_goal": per / goal,
                 "relaxations": c["minimisations"], "factorizations_per_relaxation": c["factorizations"] / m,
                 "ms_per_relaxation": 1e3 * cpu / m, "warm_restarts": c["warm_restarts"], "parent_relaxations": c["parent_relaxations"],
-                "parent_fresh": c["parent_fresh"], "energy": r.energy,
+                "parent_fresh": c["parent_fresh"], "parent_chord_steps": c["parent_chord_steps"],
+                "parent_refactorizations": c["parent_refactorizations"], "energy": r.energy,
             })
             print(f"  {name:28s} {rows[-1]['start']}: {cpu:7.1f} s for {sweeps} sweeps -> {per:7.1f} s per 10^4"
                   f"{' (scaled)' if sweeps != 10_000 else ''}, {per / goal:5.2f} x the {goal:g} s goal; "

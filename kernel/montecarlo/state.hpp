@@ -32,6 +32,7 @@ struct ChainCounters {
         f("unconverged", relax.unconverged), f("factorizations", relax.factorizations);
         f("warm_starts", relax.warm_starts), f("warm_restarts", relax.warm_restarts);
         f("parent_relaxations", relax.parent_factor), f("parent_fresh", relax.parent_fresh);
+        f("parent_chord_steps", relax.parent_chord_steps), f("parent_refactorizations", relax.parent_refactorizations);
     }
 };
 
