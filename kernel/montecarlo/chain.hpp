@@ -593,6 +593,10 @@ inline const RelaxedCluster* MonteCarlo<Model>::parent_of(const Cluster& cl, std
         std::shared_ptr<RelaxedCluster> made = factorised_cluster(model_, best->topology, best->displacement, best->displacement);
         const RelaxedCluster* stored = best;
         best = made.get();
+        // At its members' sites (this cluster's, which hold it even when a cluster move carried
+        // it away from its own sites, and its own sites').
+        for (const int m : cl.members)
+            if (site_factor_[m].get() == stored) site_factor_[m] = made;
         for (const Site& q : stored->topology.sites) {
             std::shared_ptr<RelaxedCluster>& at = site_factor_[box_.index(q)];
             if (at.get() == stored) at = made;
