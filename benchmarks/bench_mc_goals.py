@@ -6,15 +6,18 @@ energies and the workflow's moves (cluster_moves 0.05, cluster_link 0.9), seed 1
 (c) sparse box: 200 in 60 x 60, 10^4 sweeps, goal 10 s, at (nu, Gamma) = (0.4, 0.1), the
     slowest case measured, and (0.9, 0.5).
 
-Each run is made twice in the same process, alternately: with the Monte Carlo's warm starts from
-the parent clusters (``warm_start=True``, anneal's default) and cold (``warm_start=False``, each
-cluster from the linear solution), so that the table carries its own baseline. Times are process
+Each run is made up to three times in the same process, alternately (``--starts``): with the
+parent clusters' factors modified (``parent``: ``warm_start=True, parent_factor=True``, clusters
+of at least ``--parent-min-particles`` keeping theirs), with the Monte Carlo's warm starts from
+the parent clusters alone (``warm``: ``warm_start=True``, anneal's default, the parent path's
+baseline) and cold (``warm_start=False``, each cluster from the linear solution), so that the
+table carries its own baselines. Times are process
 CPU. Per run: sweeps, CPU seconds, seconds per 10^4 sweeps (measured, or scaled linearly when
 ``--sweeps`` is below 10^4, which the table says), the goal and the ratio to it, relaxations,
 factorisations and milliseconds per relaxation, and the final energy.
 
 Usage: ``python benchmarks/bench_mc_goals.py [--dense-sweeps 10000] [--sparse-sweeps 10000]
-[--csv benchmarks/results/mc_goals.csv] [--quick]``
+[--starts parent warm cold] [--parent-min-particles 0] [--csv benchmarks/results/mc_goals.csv] [--quick]``
 """
 from __future__ import annotations
 
@@ -29,6 +32,13 @@ pyfrustrate = _common.import_pyfrustrate()
 from pyfrustrate import Hexagon, continuum  # noqa: E402
 
 from bench_montecarlo import ELL, EPS, WORKFLOW_MOVES, exact_annealing  # noqa: E402
+
+# start: the options it passes to anneal
+STARTS = {
+    "parent": dict(warm_start=True, parent_factor=True),
+    "warm": dict(warm_start=True),
+    "cold": dict(warm_start=False),
+}
 
 # name: (n, box, nu, Gamma, goal in CPU seconds per 10^4 sweeps)
 RUNS = {
@@ -46,6 +56,9 @@ def main(argv=None):
     ap.add_argument("--only", choices=sorted(RUNS), nargs="+", default=sorted(RUNS))
     ap.add_argument("--csv", type=Path, default=None)
     ap.add_argument("--quick", action="store_true", help="20 sweeps each")
+    ap.add_argument("--starts", choices=sorted(STARTS), nargs="+", default=["parent", "warm", "cold"])
+    ap.add_argument("--parent-min-particles", type=int, default=0,
+                    help="parent: clusters smaller than this relax without their parent's factor")
     args = ap.parse_args(argv)
     print(f"{_common.machine_line()}\n{_common.source_line()}")
     print(f"Exact (Newton) cluster energies at tol 1e-3, moves {WORKFLOW_MOVES}, seed {args.seed}; process CPU")
@@ -55,17 +68,21 @@ def main(argv=None):
         sweeps = 20 if args.quick else (args.dense_sweeps if name.startswith("b") else args.sparse_sweeps)
         particle = Hexagon.from_continuum(ell=ELL, nu=nu, eps=EPS)
         g = float(continuum.particle_parameters(ELL, nu, Gamma, eps=EPS).g)
-        for warm in (True, False):
-            cpu, r = exact_annealing(particle, g, box, n, sweeps, args.seed, warm_start=warm, **WORKFLOW_MOVES)
+        for start in args.starts:
+            extra = dict(parent_factor_min_particles=args.parent_min_particles) if start == "parent" else {}
+            cpu, r = exact_annealing(particle, g, box, n, sweeps, args.seed, **STARTS[start], **extra, **WORKFLOW_MOVES)
             c = r.counters
             m = max(1, c["minimisations"])
             per = cpu * 10_000 / sweeps
             rows.append({
-                "run": name, "start": "warm" if warm else "cold", "n": n, "box": box, "nu": nu, "Gamma": Gamma,
+                "run": name, "start": start,
+                "parent_min_particles": args.parent_min_particles if start == "parent" else "", "n": n, "box": box, "nu": nu, "Gamma": Gamma,
                 "sweeps": sweeps, "cpu_s": cpu, "cpu_s_per_1e4_sweeps": per,
                 "scaled": sweeps != 10_000, "goal_s": goal, "over_goal": per / goal,
                 "relaxations": c["minimisations"], "factorizations_per_relaxation": c["factorizations"] / m,
-                "ms_per_relaxation": 1e3 * cpu / m, "warm_restarts": c["warm_restarts"], "energy": r.energy,
+                "ms_per_relaxation": 1e3 * cpu / m, "warm_restarts": c["warm_restarts"], "parent_relaxations": c["parent_relaxations"],
+                "parent_fresh": c["parent_fresh"], "parent_chord_steps": c["parent_chord_steps"],
+                "parent_refactorizations": c["parent_refactorizations"], "energy": r.energy,
             })
             print(f"  {name:28s} {rows[-1]['start']}: {cpu:7.1f} s for {sweeps} sweeps -> {per:7.1f} s per 10^4"
                   f"{' (scaled)' if sweeps != 10_000 else ''}, {per / goal:5.2f} x the {goal:g} s goal; "

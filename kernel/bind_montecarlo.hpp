@@ -69,7 +69,8 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
         .def(py::init([](const Model& model, double g, int box, int n, std::uint64_t seed, const std::string& method,
                          double tol, int max_iter, bool cache, bool warm_start, bool incremental, std::size_t cache_limit,
                          bool delayed_acceptance, double bond_deformation, double cluster_moves, double cluster_link, double bonded_moves,
-                         double surface_moves, bool parent_start, const std::optional<BoundState>& state) {
+                         double surface_moves, bool parent_start, bool parent_factor, int parent_factor_min_particles,
+                         const std::optional<BoundState>& state) {
                  MonteCarloOptions o;
                  if (method == "linear") o.relax.method = RelaxMethod::Linear;
                  else if (method == "lbfgs") o.relax.method = RelaxMethod::Lbfgs;
@@ -102,6 +103,12 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                  if (parent_start && o.relax.method != RelaxMethod::Newton)
                      throw std::invalid_argument("parent_start needs method='newton'");
                  o.parent_start = parent_start;
+                 if (parent_factor && !parent_start) throw std::invalid_argument("parent_factor needs parent_start");
+                 if (parent_factor_min_particles < 0)
+                     throw std::invalid_argument("parent_factor_min_particles must be non-negative, got " +
+                                                 std::to_string(parent_factor_min_particles));
+                 o.parent_factor = parent_factor;
+                 o.parent_factor_min_particles = parent_factor_min_particles;
                  o.relax.own_ldl = parent_start;  // the warm path factorises with the kernel's own LDL^T
                  auto* mc = new MC{MonteCarlo<Model>(model, g, box, o), ChainState{}};
                  if (!state) {
@@ -123,7 +130,8 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
              py::arg("incremental") = true, py::arg("cache_limit") = std::size_t(1) << 24,
              py::arg("delayed_acceptance") = true, py::arg("bond_deformation") = 0.0, py::arg("cluster_moves") = 0.0,
              py::arg("cluster_link") = 1.0, py::arg("bonded_moves") = 0.0, py::arg("surface_moves") = 0.0,
-             py::arg("parent_start") = false, py::arg("state") = py::none(),
+             py::arg("parent_start") = false, py::arg("parent_factor") = false, py::arg("parent_factor_min_particles") = 0,
+             py::arg("state") = py::none(),
              "Random initial placement drawn from the seeded std::mt19937_64, or the given state (a MonteCarloState of this box). tol is the absolute L-BFGS gradient "
              "tolerance (NLopt works in units of the model's step_scale); cache_limit the stored key entries before the cache is cleared; delayed_acceptance screens "
              "moves with the surrogate energy -(g - bond_deformation) * bonds before relaxing anything (same "
@@ -133,7 +141,9 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
              "new contact, so shape and energy unchanged; below 1 aggregates can merge and split); bonded_moves is the probability that a particle move "
              "targets an empty site next to another particle (aggregation-volume-bias, with its Hastings ratio); surface_moves is the probability that a non-cluster move takes a random particle with an empty neighbour to a random empty site next to a particle (with its Hastings ratio); parent_start (method='newton') relaxes the clusters a move makes "
              "from the relaxed displacements of the clusters they came from, exact Hessian from the first step (energies "
-             "equal the cold start's to the tolerance, not to the last bit); incremental=False re-minimises every cluster of the box on every move.")
+             "equal the cold start's to the tolerance, not to the last bit); parent_factor (with parent_start) relaxes a cluster "
+             "a move changes by a few particles by chord steps on its parent cluster's modified factor, kept by clusters of at "
+             "least parent_factor_min_particles particles; incremental=False re-minimises every cluster of the box on every move.")
         .def(
             "run",
             [](MC& mc, py::array_t<double, py::array::c_style | py::array::forcecast> temperatures,

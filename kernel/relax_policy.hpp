@@ -52,6 +52,8 @@ struct RelaxCounters {
     std::int64_t warm_restarts = 0;  // warm starts outside the minimum's basin, redone from the linear solution
     std::int64_t parent_factor = 0;  // Newton runs on the parent's modified factor (parent_factor.hpp)
     std::int64_t parent_fresh = 0;   // of the runs given a parent, those made fresh instead
+    std::int64_t parent_chord_steps = 0;        // chord steps of the runs on the parent's factor
+    std::int64_t parent_refactorizations = 0;   // exact Hessians factorised anew along them
 };
 
 // What a relaxation hands back besides the minimiser's result.
@@ -128,6 +130,8 @@ MinimizeResult relax_by_policy(const Model& model, const Topology& topology, con
                     if (done) {
                         out.parent.from_parent = true;
                         ++counters.parent_factor;
+                        counters.parent_chord_steps += out.parent.chord_steps;
+                        counters.parent_refactorizations += out.parent.refactorizations;
 #ifndef NDEBUG
                         // Debug builds: every 16th relaxation from a parent against a fresh one.
                         static std::atomic<int> checked{0};

@@ -129,8 +129,16 @@ private:
     // Relaxed energy of a fresh cluster of a move through the cache, warm-started from the
     // stored displacements of its particles (parent_start); `displacement` receives the relaxed
     // corner displacements per member and slot (empty if not relaxed here).
-    double fresh_cluster_energy(const Cluster& cluster, std::vector<double>& displacement);
-    double warm_energy(const Cluster& cluster, std::vector<double>& displacement);
+    // parent_factor: `factor` receives the cluster relaxed and factorised for its children (null
+    // if not relaxed here or too small).
+    double fresh_cluster_energy(const Cluster& cluster, std::vector<double>& displacement,
+                                std::shared_ptr<RelaxedCluster>& factor);
+    double warm_energy(const Cluster& cluster, std::vector<double>& displacement, std::shared_ptr<RelaxedCluster>& factor);
+    // parent_factor: the stored cluster most of `cluster`'s members belong to, if it differs from
+    // it by at most kMaxChangedParticles particles, factorised if it was not yet, and `sites` (the
+    // cluster's unwrapped sites) translated by whole boxes onto the parent's own unwrapped sites;
+    // nullptr otherwise.
+    const RelaxedCluster* parent_of(const Cluster& cluster, std::vector<Site>& sites);
     void forget_displacements(const std::vector<int>& sites);
     double scratch_deformation(bool canonical, bool cached, bool relabel);
     int new_cluster_id(double deformation);
@@ -148,6 +156,7 @@ private:
     std::int64_t bonds_ = 0;
     std::vector<double> site_displacement_;
     std::vector<char> site_known_;
+    std::vector<std::shared_ptr<RelaxedCluster>> site_factor_;
     ChainCounters counters;
     MoveCounters move_counters_;
     // Derived from the state.
@@ -161,12 +170,14 @@ private:
     std::vector<int> moved_;  // particles of the move under test, in proposal order
     std::vector<double> saved_displacement_;
     std::vector<char> saved_known_;
+    std::vector<std::shared_ptr<RelaxedCluster>> saved_factor_;
     ClusterEnergyCache cache_;
     std::vector<int> symmetries_;  // lattice operations under which shapes are equivalent
     ClusterWorkspace ws_, ws_canonical_;
     std::vector<Cluster> fresh_;         // clusters after the move under test
     std::vector<double> fresh_energy_;
     std::vector<std::vector<double>> fresh_displacement_;
+    std::vector<std::shared_ptr<RelaxedCluster>> fresh_factor_;
     std::vector<int> old_ids_;
     const Tiling& tiling() const { return tiling_of(Model::kTiling); }
     static std::uint64_t next_id() {
@@ -229,7 +240,7 @@ inline ChainState MonteCarlo<Model>::place(ChainState state, const std::vector<S
         occupant[s] = static_cast<int>(p);
         state.particles[p] = s;
     }
-    state.displacement.clear(), state.known.clear();
+    state.displacement.clear(), state.known.clear(), state.factors.clear();
     load(state, true);
     unload(state);
     return state;
@@ -241,6 +252,7 @@ inline void MonteCarlo<Model>::load(ChainState& s, bool from_scratch) {
     particles_.swap(s.particles);
     site_displacement_.swap(s.displacement);
     site_known_.swap(s.known);
+    site_factor_.swap(s.factors);
     rng_ = s.rng;
     deformation_ = s.deformation;
     bonds_ = s.bonds;
@@ -270,7 +282,10 @@ inline void MonteCarlo<Model>::rebuild(bool from_scratch) {
     if (site_known_.size() != store || site_displacement_.size() != store * 2 * Model::kCornerCount) {
         site_displacement_.assign(store * 2 * Model::kCornerCount, 0.0);
         site_known_.assign(store, 0);
+        site_factor_.clear();
     }
+    const std::size_t factors = options_.parent_factor ? store : 0;
+    if (site_factor_.size() != factors) site_factor_.assign(factors, nullptr);
     // The clusters' labels and energies; the running deformation stays the state's (a resumed
     // chain continues its own sum) unless asked from scratch.
     const double scratch = scratch_deformation(true, options_.cache, true);
@@ -282,6 +297,7 @@ inline void MonteCarlo<Model>::unload(ChainState& s) {
     particles_.swap(s.particles);
     site_displacement_.swap(s.displacement);
     site_known_.swap(s.known);
+    site_factor_.swap(s.factors);
     s.rng = rng_;
     s.deformation = deformation_;
     s.bonds = bonds_;
@@ -416,12 +432,13 @@ inline void MonteCarlo<Model>::make_move() {
     if (options_.parent_start && p.carries_displacements) {
         // The relaxed displacements travel with the particles (saved, to undo).
         constexpr int D = 2 * Model::kCornerCount;
-        saved_displacement_.clear(), saved_known_.clear();
+        saved_displacement_.clear(), saved_known_.clear(), saved_factor_.clear();
         for (const std::vector<int>* sites : {&p.from, &p.to})
             for (const int s : *sites) {
                 const auto first = site_displacement_.begin() + static_cast<std::ptrdiff_t>(s) * D;
                 saved_displacement_.insert(saved_displacement_.end(), first, first + D);
                 saved_known_.push_back(site_known_[s]);
+                if (options_.parent_factor) saved_factor_.push_back(site_factor_[s]);
             }
         forget_displacements(p.from);
         for (std::size_t k = 0; k < p.to.size(); ++k) {
@@ -429,6 +446,7 @@ inline void MonteCarlo<Model>::make_move() {
                       saved_displacement_.begin() + static_cast<std::ptrdiff_t>(k + 1) * D,
                       site_displacement_.begin() + static_cast<std::ptrdiff_t>(p.to[k]) * D);
             site_known_[p.to[k]] = saved_known_[k];
+            if (options_.parent_factor) site_factor_[p.to[k]] = saved_factor_[k];
         }
     }
     for (std::size_t k = 0; k < p.from.size(); ++k) {
@@ -457,6 +475,7 @@ inline void MonteCarlo<Model>::undo_move() {
             std::copy(saved_displacement_.begin() + static_cast<std::ptrdiff_t>(q) * D,
                       saved_displacement_.begin() + static_cast<std::ptrdiff_t>(q + 1) * D,
                       site_displacement_.begin() + static_cast<std::ptrdiff_t>(s) * D);
+            if (options_.parent_factor) site_factor_[s] = std::move(saved_factor_[q]);
             site_known_[s] = saved_known_[q++];
         }
 }
@@ -540,19 +559,72 @@ inline double MonteCarlo<Model>::cluster_energy(const Cluster& cl) {
 }
 
 template <class Model>
-inline double MonteCarlo<Model>::fresh_cluster_energy(const Cluster& cl, std::vector<double>& displacement) {
+inline double MonteCarlo<Model>::fresh_cluster_energy(const Cluster& cl, std::vector<double>& displacement,
+                                                      std::shared_ptr<RelaxedCluster>& factor) {
     displacement.clear();
+    factor.reset();
     if (!options_.parent_start || cl.rank() != 0) return cluster_energy(cl);
     if (cl.size() == 1) return 0.0;
     const ShapeKey key = finite_shape_key(tiling(), symmetries_, cl.unwrapped);
-    if (!options_.cache) return warm_energy(cl, displacement);
-    return cache_.get(key, [&] { return warm_energy(cl, displacement); }, counters.cache);
+    if (!options_.cache) return warm_energy(cl, displacement, factor);
+    return cache_.get(key, [&] { return warm_energy(cl, displacement, factor); }, counters.cache);
 }
 
 template <class Model>
-inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<double>& displacement) {
+inline const RelaxedCluster* MonteCarlo<Model>::parent_of(const Cluster& cl, std::vector<Site>& sites) {
+    RelaxedCluster* best = nullptr;
+    int best_count = 0, best_member = -1;
+    for (std::size_t p = 0; p < cl.members.size(); ++p) {
+        RelaxedCluster* f = site_factor_[cl.members[p]].get();
+        if (!f || f == best) continue;
+        int count = 0;
+        for (const int m : cl.members) count += site_factor_[m].get() == f;
+        if (count > best_count) best = f, best_count = count, best_member = static_cast<int>(p);
+    }
+    const int np = static_cast<int>(cl.members.size());
+    if (!best || best->topology.n_particles() - best_count + np - best_count > kMaxChangedParticles) return nullptr;
+    if (!best->factor) {
+        // Stored unfactorised (relaxed without a parent): factorised once, on first use, so that
+        // the clusters of rejected moves and those never changed again cost no factorisation.
+        // The factorised one replaces it at its sites (the stored one may be shared with copies
+        // of the state, run elsewhere: never modified); not positive definite: it serves no child.
+        ++counters.relax.factorizations;
+        const std::shared_ptr<RelaxedCluster> held = site_factor_[cl.members[best_member]];  // alive through the loop
+        std::shared_ptr<RelaxedCluster> made = factorised_cluster(model_, best->topology, best->displacement, best->displacement);
+        const RelaxedCluster* stored = best;
+        best = made.get();
+        // At its members' sites (this cluster's, which hold it even when a cluster move carried
+        // it away from its own sites, and its own sites').
+        for (const int m : cl.members)
+            if (site_factor_[m].get() == stored) site_factor_[m] = made;
+        for (const Site& q : stored->topology.sites) {
+            std::shared_ptr<RelaxedCluster>& at = site_factor_[box_.index(q)];
+            if (at.get() == stored) at = made;
+        }
+        if (!best) return nullptr;
+    }
+    // The parent was unwrapped from another start: align a shared member (modified_cluster
+    // matches particles by site).
+    const int m = cl.members[best_member];
+    for (const Site& q : best->topology.sites)
+        if (box_.index(q) == m) {
+            const int di = q[0] - cl.unwrapped[best_member][0], dj = q[1] - cl.unwrapped[best_member][1];
+            sites = cl.unwrapped;
+            for (Site& s : sites) s[0] += di, s[1] += dj;
+            return best;
+        }
+    return nullptr;  // a cluster move carried the parent's factor to other sites: no parent
+}
+
+template <class Model>
+inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<double>& displacement,
+                                             std::shared_ptr<RelaxedCluster>& factor) {
     constexpr int C = Model::kCornerCount;
-    const Topology topology = cluster_topology(tiling(), cl.unwrapped, cl);
+    const bool keeps_factor =
+        options_.parent_factor && static_cast<int>(cl.members.size()) >= options_.parent_factor_min_particles;
+    std::vector<Site> aligned;
+    const RelaxedCluster* parent = keeps_factor ? parent_of(cl, aligned) : nullptr;
+    const Topology topology = cluster_topology(tiling(), parent ? aligned : cl.unwrapped, cl);
     const int nc = topology.n_corners(), np = topology.n_particles();
     // The start: each corner's stored displacement (corners shared by particles of one parent
     // agree; particles of different parents share none); the one particle allowed without one
@@ -621,7 +693,16 @@ inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<doub
     // large strain, from which Newton takes more steps than from the linear solution.
     if (misfit > kWarmMisfit * model_.step_scale()) warm = false;
     Vector u;
-    const double e = relaxed_cluster_energy(model_, topology, options_.relax, counters.relax, warm ? &start : nullptr, &u);
+    std::shared_ptr<RelaxedCluster> own;
+    const double e = relaxed_cluster_energy(model_, topology, options_.relax, counters.relax, warm ? &start : nullptr, &u,
+                                            parent, parent ? &own : nullptr);
+    if (keeps_factor && !own && u.size() == 2 * topology.n_corners()) {
+        // Relaxed without its parent's factor: kept unfactorised until a child needs it (parent_of).
+        own = std::make_shared<RelaxedCluster>();
+        own->topology = topology;
+        own->displacement = u;
+    }
+    factor = std::move(own);
     if (u.size() == 2 * nc) {
         remove_rigid_motion(topology, u);
         displacement.resize(static_cast<std::size_t>(np) * 2 * C);
@@ -638,6 +719,8 @@ inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<doub
 template <class Model>
 inline void MonteCarlo<Model>::forget_displacements(const std::vector<int>& sites) {
     for (const int s : sites) site_known_[s] = 0;
+    if (options_.parent_factor)
+        for (const int s : sites) site_factor_[s] = nullptr;
 }
 
 template <class Model>
@@ -699,8 +782,9 @@ inline void MonteCarlo<Model>::relax_changed_clusters(const int* arrived, std::s
         }
     fresh_energy_.clear();
     fresh_displacement_.resize(std::max(fresh_displacement_.size(), fresh_.size()));
+    fresh_factor_.assign(fresh_.size(), nullptr);  // a rejected move's factors go with the next move
     for (std::size_t k = 0; k < fresh_.size(); ++k) {
-        fresh_energy_.push_back(fresh_cluster_energy(fresh_[k], fresh_displacement_[k]));
+        fresh_energy_.push_back(fresh_cluster_energy(fresh_[k], fresh_displacement_[k], fresh_factor_[k]));
         new_deformation += fresh_energy_.back();
     }
 }
@@ -720,6 +804,7 @@ inline void MonteCarlo<Model>::adopt_fresh_clusters() {
         for (std::size_t q = 0; q < fresh_[k].members.size(); ++q) {
             const int m = fresh_[k].members[q];
             site_known_[m] = stored;
+            if (options_.parent_factor) site_factor_[m] = fresh_factor_[k];
             if (stored) std::copy(d.begin() + q * D, d.begin() + (q + 1) * D, site_displacement_.begin() + static_cast<std::ptrdiff_t>(m) * D);
         }
     }

@@ -41,6 +41,13 @@ struct MonteCarloOptions {
     // the cold start (the linear solution of the canonical representative) to the solver's
     // tolerance, not to the last bit: they depend on the path (and on the cache) at that level.
     bool parent_start = false;
+    // parent_start only: a cluster a move changes by at most kMaxChangedParticles particles
+    // relaxes by chord steps on its parent cluster's factor, modified (parent_factor.hpp), instead
+    // of factorising its own Hessian; each relaxed cluster of at least parent_factor_min_particles
+    // particles keeps its factor for its children (one per cluster of the box, dropped with it).
+    // false: the warm start alone (the baseline of benchmarks/bench_mc_goals.py).
+    bool parent_factor = false;
+    int parent_factor_min_particles = 0;
 };
 
 // parent_start: a moved particle whose known corners lie farther than this many step_scale

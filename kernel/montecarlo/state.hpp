@@ -7,8 +7,10 @@
 
 #include "cluster_energy.hpp"
 #include "montecarlo/moves.hpp"
+#include "parent_factor.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -29,6 +31,8 @@ struct ChainCounters {
         f("minimisations", relax.minimisations), f("evaluations", relax.evaluations), f("fallbacks", relax.fallbacks);
         f("unconverged", relax.unconverged), f("factorizations", relax.factorizations);
         f("warm_starts", relax.warm_starts), f("warm_restarts", relax.warm_restarts);
+        f("parent_relaxations", relax.parent_factor), f("parent_fresh", relax.parent_fresh);
+        f("parent_chord_steps", relax.parent_chord_steps), f("parent_refactorizations", relax.parent_refactorizations);
     }
 };
 
@@ -41,6 +45,11 @@ struct ChainState {
     // per site, lab frame, rigid motion removed) and whether they are known; empty otherwise.
     std::vector<double> displacement;
     std::vector<char> known;
+    // Parent factors (options.parent_factor): each site's cluster, relaxed and factorised, shared
+    // by its members; empty otherwise, and not carried by a state rebuilt from its arrays (the
+    // chain then starts without). At most one per cluster of the box: a cluster's members take
+    // its children's when a move is accepted, a vacated site drops its own.
+    std::vector<std::shared_ptr<RelaxedCluster>> factors;
     ChainCounters counters;
     MoveCounters move_counters;  // each family's own (montecarlo/moves.hpp)
     // Which chain last returned this state, and when: a state handed straight back skips the

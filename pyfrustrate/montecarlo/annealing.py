@@ -376,6 +376,12 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
         the tolerance rather than bit for bit. ``warm_start=False`` (or ``method="lbfgs"``) makes
         resumption exact.
 
+        ``parent_factor`` (with Newton and ``warm_start``): a cluster a move changes by a few
+        particles relaxes by chord steps on its parent cluster's Hessian factor, modified for the
+        particles that came and went, instead of factorising its own; clusters of at least
+        ``parent_factor_min_particles`` particles keep their factor for their children (one
+        factor per cluster of the box). Energies stay exact to the tolerance.
+
         ``delayed_acceptance``: screen each move first with the surrogate energy
         ``-(g - e_b/b) * bonds`` (``e_b`` the bulk deformation energy per particle, ``b`` the
         bonds per bulk particle), relaxing clusters only for moves that pass, then accept with

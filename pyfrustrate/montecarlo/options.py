@@ -131,6 +131,12 @@ class MonteCarloOptions:
         Probability of a surface move, in [0, 1).
     cache : bool
         The cluster-energy cache (speed only).
+    parent_factor : bool
+        Newton with ``warm_start``: a cluster a move changes by a few particles relaxes on its
+        parent cluster's modified factor (off by default: benchmarks/bench_mc_goals.py measures
+        it against the warm start).
+    parent_factor_min_particles : int
+        The smallest cluster that takes the parent-factor path.
 
     Raises
     ------
@@ -155,6 +161,8 @@ class MonteCarloOptions:
     bonded_moves: float = 0.5
     surface_moves: float = 0.2
     cache: bool = True
+    parent_factor: bool = False
+    parent_factor_min_particles: int = 0
 
     def __post_init__(self):
         if self.method not in METHODS:
@@ -173,7 +181,9 @@ class MonteCarloOptions:
             if value == 1:
                 raise ValueError(f"{name} must lie in [0, 1), got 1 ({why})")
             set_(self, name, value)
-        for name in ("warm_start", "delayed_acceptance", "cache"):
+        set_(self, "parent_factor_min_particles",
+             integer("parent_factor_min_particles", self.parent_factor_min_particles, 0, 2**31 - 1))
+        for name in ("warm_start", "delayed_acceptance", "cache", "parent_factor"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be True or False, got {getattr(self, name)!r}")
 
@@ -240,7 +250,9 @@ class MonteCarloOptions:
                     bond_deformation=float(particle.bulk_energy_per_particle) / tiling["bulk_bonds_per_particle"],
                     cluster_moves=self.cluster_moves, cluster_link=self.cluster_link,
                     bonded_moves=self.bonded_moves, surface_moves=self.surface_moves,
-                    parent_start=self.warm_start and method == "newton")
+                    parent_start=self.warm_start and method == "newton",
+                    parent_factor=self.parent_factor and self.warm_start and method == "newton",
+                    parent_factor_min_particles=self.parent_factor_min_particles)
 
 
 def chain_options(options, fields: dict) -> MonteCarloOptions:

@@ -1,0 +1,64 @@
+"""The parent-factor path in the Monte Carlo (``parent_factor``, kernel/montecarlo/chain.hpp with
+kernel/parent_factor.hpp): a cluster a move changes by a few particles relaxes by chord steps on
+its parent cluster's Hessian factor, modified, instead of factorising its own.
+
+References: the same seed on the warm path without parent factors (``parent_factor=False``),
+the cold Newton relaxation of every cluster from scratch (``box_energy``), and an independent
+L-BFGS at a tight tolerance.
+"""
+import numpy as np
+import pytest
+
+from test_montecarlo import kernel_mc
+from test_montecarlo_warm import DENSE, setup
+
+
+def test_parent_factor_chain_equals_warm_chain_and_is_used():
+    """Same seed with and without parent factors: the same moves taken (energies agree to the
+    tolerance, far below what changes a Metropolis decision here), the parent path actually
+    serves (parent_relaxations > 0), and the running energy equals the cold relaxation of every
+    cluster from scratch and an L-BFGS at tol 1e-9."""
+    particle, g = setup(DENSE)
+    box, n = 12, 48
+    scale = n * particle.bulk_energy_per_particle
+    out = {}
+    for parent in (True, False):
+        mc = kernel_mc(particle, g, box, n, 5, "newton", tol=1e-3, parent_start=True, parent_factor=parent,
+                       cluster_moves=0.02)
+        trace = mc.run(np.linspace(g, 0.1 * g, 30), np.full(30, 48))
+        out[parent] = (mc, trace["energy"])
+    (with_parent, e_parent), (without, e_without) = out[True], out[False]
+    c = with_parent.counters
+    assert c["parent_relaxations"] > 0.1 * c["minimisations"], c
+    assert without.counters["parent_relaxations"] == 0
+    assert c["unconverged"] == 0
+    assert np.array_equal(with_parent.particles, without.particles)
+    for k in ("accepted", "screened", "minimisations"):
+        assert c[k] == without.counters[k]
+    assert np.allclose(e_parent, e_without, rtol=0, atol=1e-5 * scale)
+    assert abs(with_parent.energy - with_parent.box_energy(True)) < 1e-5 * scale
+    lbfgs = kernel_mc(particle, g, box, n, 0, "lbfgs", tol=1e-9)
+    lbfgs.place(with_parent.particles)
+    assert abs(with_parent.energy - lbfgs.energy) < 1e-5 * scale
+
+
+def test_parent_factor_min_particles_turns_small_clusters_off():
+    """A threshold above every cluster's size keeps no factor: the chain is the warm one, bit for bit."""
+    particle, g = setup(DENSE)
+    runs = []
+    for parent, threshold in ((True, 10**6), (False, 0)):
+        mc = kernel_mc(particle, g, 10, 30, 2, "newton", tol=1e-3, parent_start=True, parent_factor=parent,
+                       parent_factor_min_particles=threshold)
+        runs.append((mc, mc.run(np.linspace(g, 0.2 * g, 8), np.full(8, 30))["energy"]))
+    (a, ea), (b, eb) = runs
+    assert a.counters["parent_relaxations"] == 0 and a.counters["minimisations"] > 0
+    assert np.array_equal(ea, eb)
+
+
+def test_parent_factor_options_are_checked():
+    particle, g = setup(DENSE)
+    with pytest.raises(ValueError, match="parent_start"):
+        kernel_mc(particle, g, 10, 30, 1, "newton", tol=1e-3, parent_factor=True)
+    with pytest.raises(ValueError, match="parent_factor_min_particles"):
+        kernel_mc(particle, g, 10, 30, 1, "newton", tol=1e-3, parent_start=True, parent_factor=True,
+                  parent_factor_min_particles=-1)
