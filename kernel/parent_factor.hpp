@@ -235,9 +235,6 @@ MinimizeResult chord_relax(const Model& model, std::shared_ptr<RelaxedCluster>& 
     const std::shared_ptr<RelaxedCluster> first = cluster;  // keeps `topology` alive when cluster is refreshed
     const Topology& topology = first->topology;
     const Network<Model> net{model, topology};
-    constexpr double armijo = 1e-4, roundoff = 1e-10;
-    std::vector<char> pinned(u.size(), 0);
-    for (const int d : cluster->pins) pinned[d] = 1;
     Vector gradient;
     double energy = net.energy(u, &gradient);
     for (const int d : cluster->pins) gradient[d] = 0;
@@ -261,25 +258,9 @@ MinimizeResult chord_relax(const Model& model, std::shared_ptr<RelaxedCluster>& 
             failed = true;
             break;
         }
-        const double longest = max_abs(direction);
-        if (longest > options.newton_max_step) direction *= options.newton_max_step / longest;
-        const double slope = gradient.dot(direction);
-        double length = 1.0, trial_energy = 0, trial_gnorm = 0;
-        Vector trial, trial_gradient;
-        bool accepted = false;
-        for (int halving = 0; halving < 40 && evaluations < options.max_iterations; ++halving, length *= 0.5) {
-            trial = u + length * direction;
-            trial_energy = net.energy(trial, &trial_gradient);
-            ++evaluations;
-            if (!std::isfinite(trial_energy)) continue;
-            for (const int d : cluster->pins) trial_gradient[d] = 0;
-            trial_gnorm = max_abs(trial_gradient);
-            if (trial_energy <= energy + armijo * length * slope ||
-                (-slope * length <= roundoff * std::abs(energy) && trial_gnorm < gnorm)) {
-                accepted = true;
-                break;
-            }
-        }
+        LineSearchPoint next;
+        const bool accepted =
+            backtracking_step(net, u, direction, gradient, energy, gnorm, options, evaluations, cluster->pins, next);
         if (!accepted) {
             stop = evaluations >= options.max_iterations ? "maximum number of iterations reached"
                                                          : "round-off floor: no step lowers the energy or the largest force";
@@ -288,10 +269,10 @@ MinimizeResult chord_relax(const Model& model, std::shared_ptr<RelaxedCluster>& 
         ++steps;
         ++stats.chord_steps;
         const double previous_gnorm = gnorm;
-        u = std::move(trial);
-        energy = trial_energy;
-        gradient = std::move(trial_gradient);
-        gnorm = trial_gnorm;
+        u = std::move(next.u);
+        energy = next.energy;
+        gradient = std::move(next.gradient);
+        gnorm = next.gnorm;
         if (gnorm > options.gradient_tolerance && gnorm > kChordContraction * previous_gnorm) {
             // The matrix has drifted from the Hessian: the exact one at this state instead.
             auto fresh = factorised_cluster(model, topology, u, u);

@@ -236,6 +236,43 @@ MinimizeResult relax_linear(const Model& model, const Topology& topology, Stiffn
     return result;
 }
 
+// One globalised step along a descent direction, shared by Newton and the parent factor's chord
+// steps: a trust region (no corner moves by more than max_step, lattice units, in one step: a
+// longer step comes from a model far from quadratic and could leave the physical basin, as
+// k_area < 0 is unbounded below), then a backtracking line search taking the first of 1, 1/2,
+// 1/4, ... that satisfies Armijo's condition or, once the predicted decrease falls below what the
+// energy resolves (a sum of terms that may cancel: springs against areas with k_area < 0), that
+// lowers the largest force, the merit function there. Forces on `pins` are held at zero.
+// Returns whether a step was taken; the trial state is written to `next`.
+struct LineSearchPoint {
+    Vector u, gradient;
+    double energy = 0, gnorm = 0;
+};
+
+template <class Net>
+bool backtracking_step(const Net& net, const Vector& u, Vector direction, const Vector& gradient, double energy,
+                       double gnorm, const MinimizeOptions& options, int& evaluations, const std::vector<int>& pins,
+                       LineSearchPoint& next) {
+    constexpr double armijo = 1e-4;
+    constexpr double roundoff = 1e-10;  // relative resolution of the energy assumed near the minimum
+    const double longest = max_abs(direction);
+    if (longest > options.newton_max_step) direction *= options.newton_max_step / longest;
+    const double slope = gradient.dot(direction);
+    double length = 1.0;
+    for (int halving = 0; halving < 40 && evaluations < options.max_iterations; ++halving, length *= 0.5) {
+        next.u = u + length * direction;
+        next.energy = net.energy(next.u, &next.gradient);
+        ++evaluations;
+        if (!std::isfinite(next.energy)) continue;
+        for (const int d : pins) next.gradient[d] = 0;
+        next.gnorm = max_abs(next.gradient);
+        const bool decrease = next.energy <= energy + armijo * length * slope;
+        const bool at_roundoff = -slope * length <= roundoff * std::abs(energy) && next.gnorm < gnorm;
+        if (decrease || at_roundoff) return true;
+    }
+    return false;
+}
+
 // Newton from displacement u0. Directions: -K^-1 g with the reference stiffness K (factorised
 // once, a solve per step; quasi-Newton pairs refine it, see below), or -H^-1 g with the exact Hessian H (one numeric factorisation per
 // step on the shared analysis; where H is not positive definite, the reference direction). The
@@ -254,7 +291,6 @@ template <class Model>
 MinimizeResult newton_from(const Model& model, const Topology& topology, Vector u, const MinimizeOptions& options,
                            StiffnessCache& cache, int evaluations_before = 0) {
     const Network<Model> net{model, topology};
-    constexpr double armijo = 1e-4;
     const double switch_ratio = options.newton_switch_ratio;
     // The reference factor, made on first use: a start close to the minimum (options.
     // newton_exact_from_start) may need none.
@@ -264,7 +300,6 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
         return *reference;
     };
     if (!options.newton_exact_from_start) stiffness();  // also makes the analysis used below
-    constexpr double roundoff = 1e-10;  // relative resolution of the energy assumed near the minimum
     Vector gradient;
     double energy = net.energy(u, &gradient);
     double gnorm = max_abs(gradient);
@@ -343,31 +378,8 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
             history.clear();
             direction = -reference_solve(cache, stiffness(), gradient);
         }
-        // Trust region: no corner moves by more than max_step (lattice units) in one step. Newton
-        // steps near the minimum are far shorter; a longer one comes from a model far from
-        // quadratic and could leave the physical basin (k_area < 0 is unbounded below).
-        const double longest = max_abs(direction);
-        if (longest > options.newton_max_step) direction *= options.newton_max_step / longest;
-        const double slope = gradient.dot(direction);
-        double length = 1.0, trial_energy = 0, trial_gnorm = 0;
-        Vector trial, trial_gradient;
-        bool accepted = false;
-        for (int halving = 0; halving < 40 && evaluations < options.max_iterations; ++halving, length *= 0.5) {
-            trial = u + length * direction;
-            trial_energy = net.energy(trial, &trial_gradient);
-            ++evaluations;
-            if (!std::isfinite(trial_energy)) continue;
-            trial_gnorm = max_abs(trial_gradient);
-            const bool decrease = trial_energy <= energy + armijo * length * slope;
-            // Near the minimum the predicted decrease falls below what the energy resolves (a sum
-            // of terms that may cancel: with k_area < 0, springs against areas); the largest force
-            // is then the merit function.
-            const bool at_roundoff = -slope * length <= roundoff * std::abs(energy) && trial_gnorm < gnorm;
-            if (decrease || at_roundoff) {
-                accepted = true;
-                break;
-            }
-        }
+        LineSearchPoint next;
+        const bool accepted = backtracking_step(net, u, direction, gradient, energy, gnorm, options, evaluations, {}, next);
         if (!accepted) {
             stop = evaluations >= options.max_iterations
                        ? "maximum number of iterations reached"
@@ -378,7 +390,7 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
         if (shift > 0) ++damped_steps;
         shift = shift > 1e-6 ? shift / 100 : 0;
         if (!exact) {
-            Pair pair{trial - u, trial_gradient - gradient, 0.0};
+            Pair pair{next.u - u, next.gradient - gradient, 0.0};
             const double sy = pair.s.dot(pair.y);
             if (sy > 1e-12 * pair.s.norm() * pair.y.norm()) {
                 pair.rho = 1.0 / sy;
@@ -387,10 +399,10 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
             }
         }
         const double previous_energy = energy, previous_gnorm = gnorm;
-        u = std::move(trial);
-        energy = trial_energy;
-        gradient = std::move(trial_gradient);
-        gnorm = trial_gnorm;
+        u = std::move(next.u);
+        energy = next.energy;
+        gradient = std::move(next.gradient);
+        gnorm = next.gnorm;
         if (options.newton_handover && damped_steps > 4 && gnorm > options.gradient_tolerance) {
             // Far from the minimum, where the Hessian stays indefinite (large eps, nu -> 1),
             // L-BFGS globalises better than damped Newton; Newton finishes after it.
