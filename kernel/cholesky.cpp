@@ -48,6 +48,27 @@ std::mutex& blas_lock() {
     return m;
 }
 
+// A right-hand side as CHOLMOD's dense column, viewing b's storage (cholmod_solve only reads it),
+// and a solution CHOLMOD allocated, copied out and freed.
+cholmod_dense dense_view(const Eigen::VectorXd& b) {
+    cholmod_dense rhs;
+    rhs.nrow = b.size();
+    rhs.ncol = 1;
+    rhs.nzmax = b.size();
+    rhs.d = b.size();
+    rhs.x = const_cast<double*>(b.data());
+    rhs.z = nullptr;
+    rhs.xtype = CHOLMOD_REAL;
+    rhs.dtype = CHOLMOD_DOUBLE;
+    return rhs;
+}
+
+Eigen::VectorXd take_dense(cholmod_dense* x, cholmod_common* c) {
+    Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(x->x), x->nrow);
+    cholmod_free_dense(&x, c);
+    return out;
+}
+
 }  // namespace
 
 CholeskyAnalysis::CholeskyAnalysis(int n, const std::vector<int>& column_start, const std::vector<int>& row,
@@ -275,15 +296,7 @@ Eigen::VectorXd CholeskyFactor::solve(const Eigen::VectorXd& b) const {
         for (int k = 0; k < n; ++k) out[a.perm_[k]] = x[k];
         return out;
     }
-    cholmod_dense rhs;
-    rhs.nrow = n;
-    rhs.ncol = 1;
-    rhs.nzmax = n;
-    rhs.d = n;
-    rhs.x = const_cast<double*>(b.data());
-    rhs.z = nullptr;
-    rhs.xtype = CHOLMOD_REAL;
-    rhs.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense rhs = dense_view(b);
     cholmod_dense* x = nullptr;
     {
         SerialOpenMP serial;
@@ -291,9 +304,7 @@ Eigen::VectorXd CholeskyFactor::solve(const Eigen::VectorXd& b) const {
         x = cholmod_solve(CHOLMOD_A, static_cast<cholmod_factor*>(factor_), &rhs, c);
     }
     if (!x) throw std::runtime_error("sparse Cholesky: CHOLMOD's solve failed");
-    Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(x->x), n);
-    cholmod_free_dense(&x, c);
-    return out;
+    return take_dense(x, c);
 }
 
 }  // namespace pyfrustrate
@@ -488,24 +499,14 @@ bool ModifiableFactor::update(const std::vector<int>& rows, const Eigen::MatrixX
 Eigen::VectorXd ModifiableFactor::solve(const Eigen::VectorXd& b) const {
     auto* c = common_of(common_);
     if (b.size() != n_) throw std::invalid_argument("modifiable factor: right-hand side has the wrong size");
-    cholmod_dense rhs;
-    rhs.nrow = n_;
-    rhs.ncol = 1;
-    rhs.nzmax = n_;
-    rhs.d = n_;
-    rhs.x = const_cast<double*>(b.data());
-    rhs.z = nullptr;
-    rhs.xtype = CHOLMOD_REAL;
-    rhs.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense rhs = dense_view(b);
     cholmod_dense* x = nullptr;
     {
         SerialOpenMP serial;
         x = cholmod_solve(CHOLMOD_LDLt, factor_of(factor_), &rhs, c);
     }
     if (!x) throw std::runtime_error("modifiable factor: CHOLMOD's solve failed");
-    Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(static_cast<double*>(x->x), n_);
-    cholmod_free_dense(&x, c);
-    return out;
+    return take_dense(x, c);
 }
 
 long ModifiableFactor::nonzeros() const {
