@@ -91,7 +91,7 @@ def save_npz(path, *, provenance: dict | None = None, **arrays) -> None:
     ([1, 2], {'seed': 1})
     """
     if provenance is not None:
-        arrays[PROVENANCE_KEY] = np.array(json.dumps(provenance, sort_keys=True, default=_to_builtin))
+        arrays[PROVENANCE_KEY] = np.array(json.dumps(provenance, sort_keys=True, default=json_default))
     with atomic_path(path, ".npz") as tmp:
         np.savez_compressed(tmp, **arrays)
 
@@ -135,7 +135,7 @@ def save_json(path, obj, *, provenance: dict | None = None) -> None:
             raise ValueError(f"save_json: a provenance record needs a dict without a '{PROVENANCE_KEY}' key")
         obj = {**obj, PROVENANCE_KEY: provenance}
     with atomic_path(path, ".json") as tmp:
-        tmp.write_text(json.dumps(obj, indent=2, sort_keys=True, default=_to_builtin) + "\n")
+        tmp.write_text(json.dumps(obj, indent=2, sort_keys=True, default=json_default) + "\n")
 
 
 def provenance_line(provenance: dict) -> str:
@@ -151,7 +151,7 @@ def provenance_line(provenance: dict) -> str:
     str
         Ending in a newline.
     """
-    return f"# {PROVENANCE_KEY}: {json.dumps(provenance, sort_keys=True, default=_to_builtin)}\n"
+    return f"# {PROVENANCE_KEY}: {json.dumps(provenance, sort_keys=True, default=json_default)}\n"
 
 
 def read_provenance(path) -> dict | None:
@@ -193,7 +193,31 @@ def read_provenance(path) -> dict | None:
     raise ValueError(f"read_provenance: no provenance is stored in '{suffix}' files ({path})")
 
 
-def _to_builtin(value):
+def json_default(value):
+    """The ``default=`` of ``json.dumps`` for numpy values: a numpy scalar as its Python value, an
+    array as nested lists.
+
+    Parameters
+    ----------
+    value : object
+        What ``json`` cannot serialise by itself.
+
+    Returns
+    -------
+    int, float, bool, str or list
+
+    Raises
+    ------
+    TypeError
+        Anything else, named by its type.
+
+    Examples
+    --------
+    >>> import json, numpy as np
+    >>> from pyfrustrate.io import json_default
+    >>> json.dumps({"n": np.int64(3), "x": np.array([0.5, 1.0])}, default=json_default)
+    '{"n": 3, "x": [0.5, 1.0]}'
+    """
     if isinstance(value, np.generic):
         return value.item()
     if isinstance(value, np.ndarray):

@@ -18,7 +18,7 @@ from importlib import metadata
 import numpy as np
 
 from . import _kernel
-from .io import _to_builtin
+from .io import json_default
 
 UNKNOWN = "unknown"
 
@@ -139,7 +139,7 @@ def _builtin(value):
     if isinstance(value, (list, tuple, set, frozenset, range)):
         return [_builtin(v) for v in value]
     if isinstance(value, (np.ndarray, np.generic)):
-        return _to_builtin(value)
+        return json_default(value)
     if value is None or isinstance(value, (str, int, float, bool)):
         return value
     return str(value)

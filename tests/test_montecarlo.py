@@ -656,6 +656,16 @@ def test_clusters_unwrap_and_rank():
     assert rank == 0 and np.ptp(coords, axis=0).max() <= 2
 
 
+def test_largest_cluster_extent_spans_the_largest_cluster_and_refuses_an_empty_box():
+    box = 8
+    corner = [(0, 0), (box - 1, 0), (0, box - 1), (1, box - 1)]  # one cluster across the boundary
+    lower, upper = montecarlo.largest_cluster_extent(corner + [(4, 4)], box)
+    # Four touching sites span at most two spacings, not the box the wrapped coordinates span.
+    assert np.all(upper - lower <= 2.0 + 1e-12) and np.all(upper >= lower)
+    with pytest.raises(ValueError, match="sites is empty"):
+        montecarlo.largest_cluster_extent(np.zeros((0, 2), int), box)
+
+
 def test_draw_snapshot(particle):
     import matplotlib
     matplotlib.use("Agg")

@@ -206,11 +206,12 @@ def largest_cluster_extent(sites, box, tiling="hexagon") -> tuple[np.ndarray, np
     Raises
     ------
     ValueError
-        Bad ``sites`` or ``box`` (``clusters``), named.
-    IndexError
-        No particle (``sites`` empty).
+        Bad ``sites`` or ``box`` (``clusters``), named, or no particle (``sites`` empty).
     """
-    coords, _ = clusters(sites, box, tiling)[0]
+    found = clusters(sites, box, tiling)
+    if not found:
+        raise ValueError("largest_cluster_extent: sites is empty; a snapshot needs at least one particle")
+    coords, _ = found[0]
     xy = site_positions(placed(coords, box), tiling)
     return xy.min(axis=0), xy.max(axis=0)
 

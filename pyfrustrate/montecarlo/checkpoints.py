@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from ..io import _to_builtin, atomic_path
+from ..io import json_default, atomic_path
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "write_checkpoint", "read_checkpoint_file", "json_normalised"]
 
@@ -49,7 +49,7 @@ def json_normalised(value):
     >>> json_normalised({"box": np.int64(6), "pair": (1, 2)})
     {'box': 6, 'pair': [1, 2]}
     """
-    return json.loads(json.dumps(value, default=_to_builtin))
+    return json.loads(json.dumps(value, default=json_default))
 
 
 def _refused(path, reason: str) -> ValueError:
@@ -83,7 +83,7 @@ def write_checkpoint(path, kind: str, signature: dict, metadata: dict, arrays: d
     for name, a in entries.items():
         if a.dtype.kind not in "biuf":
             raise TypeError(f"checkpoint array {name!r} must be numeric, got dtype {a.dtype}")
-    entries[_METADATA] = np.array(json.dumps(header, default=_to_builtin))
+    entries[_METADATA] = np.array(json.dumps(header, default=json_default))
     with atomic_path(path) as tmp, open(tmp, "wb") as f:
         np.savez(f, **entries)
         f.flush()
