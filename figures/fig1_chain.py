@@ -8,6 +8,7 @@ from matplotlib.patches import Polygon
 
 from pyfrustrate import plotting
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 
 
 def draw_chain(ax, x_up, x_down):
@@ -29,7 +30,7 @@ def draw_chain(ax, x_up, x_down):
 WIDTH_CM, HEIGHT_CM = plotting.PAGE_WIDTH_CM, 8.6
 
 
-def main(data_path, outputs):
+def main(data_path, outputs, provenance=None):
     d = load_npz(data_path)
     fig = plotting.figure(WIDTH_CM, HEIGHT_CM)
 
@@ -67,9 +68,10 @@ def main(data_path, outputs):
     ax.set_ylabel(plotting.LABELS["ell"])
     ax.legend(loc="upper right")
     plotting.panel_label(ax, "c")
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

@@ -12,6 +12,7 @@ import numpy as np
 
 from pyfrustrate import plotting
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 from pyfrustrate.montecarlo import largest_cluster_extent
 
 # Marker of each box on the diagram, and the same glyph on its snapshot panels.
@@ -38,7 +39,7 @@ def gap_to_best_single(run, finite) -> float:
     return gap
 
 
-def main(diagram_path, continuum_path, snapshot_paths, finite_paths, dense, sweeps, convention, outputs):
+def main(diagram_path, continuum_path, snapshot_paths, finite_paths, dense, sweeps, convention, outputs, provenance=None):
     diagram, continuum = load_npz(diagram_path), load_npz(continuum_path)
     finite = [load_npz(p) for p in finite_paths]
     runs = sorted((load_npz(p) for p in snapshot_paths),
@@ -111,7 +112,7 @@ def main(diagram_path, continuum_path, snapshot_paths, finite_paths, dense, swee
                  f"{sweeps[kind]} sweeps\n" rf"$\Delta E$ = {gap_to_best_single(r, finite):+.1f} $e_{{\rm bulk}}$",
                  transform=sub.transAxes, fontsize=6, va="bottom", zorder=10,
                  bbox=dict(boxstyle="round,pad=0.15", fc="w", ec="none", alpha=0.85))
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
@@ -119,4 +120,5 @@ if "snakemake" in globals():
         main(snakemake.input.diagram, snakemake.input.continuum[0], snakemake.input.snapshots,  # noqa: F821
              snakemake.input.finite,  # noqa: F821
              snakemake.params.dense, snakemake.params.sweeps, snakemake.params.convention,  # noqa: F821
-             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

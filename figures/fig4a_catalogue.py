@@ -9,6 +9,7 @@ from matplotlib.patheffects import withStroke
 
 from pyfrustrate import plotting, topology
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 
 PANELS = [
     ("holes_honeycomb", "bulk with holes\n(honeycomb)"), ("holes_kagome", "bulk with holes\n(kagome)"),
@@ -57,7 +58,7 @@ def draw_cut_lines(ax, centre):
                 path_effects=[withStroke(linewidth=2.0, foreground="w")])
 
 
-def main(data_path, outputs):
+def main(data_path, outputs, provenance=None):
     d = load_npz(data_path)
     fig = plotting.figure(WIDTH_CM, HEIGHT_CM)
     norm = Normalize(0, 1.1)
@@ -88,9 +89,10 @@ def main(data_path, outputs):
     cax = fig.add_axes([16.0 / WIDTH_CM, 1.0 / HEIGHT_CM, 0.22 / WIDTH_CM, 5.0 / HEIGHT_CM])
     fig.colorbar(polys, cax=cax, extend="max")
     cax.set_ylabel(plotting.LABELS["energy"])
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

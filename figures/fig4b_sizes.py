@@ -13,6 +13,7 @@ import numpy as np
 
 from pyfrustrate import plotting
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 
 COLLAPSE_TOLERANCE = 0.10  # |median ratio - 1| within which we call the sizes collapsed
 
@@ -38,7 +39,7 @@ def collapse_range(ells, medians) -> str:
     return rf"$\ell \geq {ells[first]:g}$"
 
 
-def main(data_path, outputs):
+def main(data_path, outputs, provenance=None):
     d = load_npz(data_path)
     G, ells = d["Gamma"], d["ells"]
     fig = plotting.figure(plotting.PAGE_WIDTH_CM, 11.0)
@@ -84,9 +85,10 @@ def main(data_path, outputs):
             ax.set_ylim(0, None)
     fig.tight_layout(rect=(0, 0.05, 1, 0.97))
     fig.text(0.5, 0.01, "Collapse onto the continuum: " + "; ".join(summary) + ".", ha="center")
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

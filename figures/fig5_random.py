@@ -13,6 +13,7 @@ import numpy as np
 from pyfrustrate import continuum, plotting
 from pyfrustrate import random_particles as rp
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 
 
 def draw_distances(ax):
@@ -181,7 +182,7 @@ def draw_sizes_over_ell(ax, sizes, kind, nus=(0.0, 0.5, 0.9)):
     ax.legend(loc="upper left")
 
 
-def main(summary_path, fits_path, size_paths, outputs):
+def main(summary_path, fits_path, size_paths, outputs, provenance=None):
     summary, fits = load_npz(summary_path), load_npz(fits_path)
     parts = [load_npz(p) for p in size_paths]
     sizes = {k: np.concatenate([s[k] for s in parts]) for k in
@@ -220,10 +221,11 @@ def main(summary_path, fits_path, size_paths, outputs):
     draw_size_ratios(ax_w, sizes, "fiber")
     draw_size_ratios(ax_r, sizes, "disk")
     plotting.panel_label(ax_w, "e", dy_pt=16)
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         main(snakemake.input.summary, snakemake.input.fits[0], snakemake.input.sizes,  # noqa: F821
-             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

@@ -6,9 +6,10 @@ import numpy as np
 
 from pyfrustrate import plotting
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 
 
-def main(size_paths, outputs):
+def main(size_paths, outputs, provenance=None):
     parts = [load_npz(p) for p in size_paths]
     d = {k: np.concatenate([s[k] for s in parts]) for k in
          ("width_relative", "radius_relative", "width_relative_capped", "radius_relative_capped", "ell")}
@@ -30,9 +31,10 @@ def main(size_paths, outputs):
                      f"grey: at the catalogue's largest {name} ({100 * share:.0f} % of points)")
         plotting.panel_label(ax, "ab"[col])
     fig.tight_layout(h_pad=0, w_pad=2)
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main(snakemake.input.sizes, [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+        main(snakemake.input.sizes, [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

@@ -7,9 +7,10 @@ import numpy as np
 
 from pyfrustrate import plotting
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 
 
-def main(summary_path, selection_path, edges, outputs):
+def main(summary_path, selection_path, edges, outputs, provenance=None):
     s, sel = load_npz(summary_path), load_npz(selection_path)
     fig = plotting.figure(plotting.PAGE_WIDTH_CM, 6.5)
     ax = fig.add_subplot(1, 2, 1)
@@ -37,10 +38,11 @@ def main(summary_path, selection_path, edges, outputs):
     ax.legend(ncol=1, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     plotting.panel_label(ax, "b")
     fig.subplots_adjust(left=0.07, right=0.66, bottom=0.17, top=0.9, wspace=0.3)
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         main(snakemake.input.summary, snakemake.input.selection, snakemake.params.ell_groups,  # noqa: F821
-             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

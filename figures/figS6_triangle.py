@@ -11,6 +11,7 @@ from matplotlib.colors import Normalize
 
 from pyfrustrate import ansatz, plotting
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 from pyfrustrate.montecarlo import clusters
 from pyfrustrate.topology import site_positions
 
@@ -189,7 +190,7 @@ def panel_catalogue(fig, d, norm, top):
             letter(fig, ax, "e", 0.1, top + 0.1)
 
 
-def main(shapes_path, diagram_path, continuum_path, snapshot_paths, finite_paths, outputs):
+def main(shapes_path, diagram_path, continuum_path, snapshot_paths, finite_paths, outputs, provenance=None):
     d = load_npz(shapes_path)
     diagram = load_npz(diagram_path)
     runs = sorted((load_npz(p) for p in snapshot_paths), key=lambda r: (-float(r["nu"]), float(r["Gamma"])))
@@ -205,11 +206,12 @@ def main(shapes_path, diagram_path, continuum_path, snapshot_paths, finite_paths
     panel_snapshots(fig, runs, [load_npz(p) for p in finite_paths], top)
     top -= 2 * (SNAPSHOT_CM + 0.55) + 0.2
     panel_catalogue(fig, d, norm, top)
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         main(snakemake.input.shapes, snakemake.input.diagram, snakemake.input.continuum[0],  # noqa: F821
              snakemake.input.snapshots, snakemake.input.finite,  # noqa: F821
-             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

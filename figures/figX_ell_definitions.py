@@ -18,6 +18,7 @@ import numpy as np
 from pyfrustrate import plotting
 from pyfrustrate.boundary_layer import definition_names
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 
 PAPER_THRESHOLD, PAPER_FRACTION = 1.5, 1.25e5 / 3e7
 
@@ -36,7 +37,7 @@ def style(name):
     return cmap(shade), "-" if reference == "centre" else ":", f"slab fit, depth {depth}, vs {reference}"
 
 
-def main(study_path, table_path, ell_groups, outputs):
+def main(study_path, table_path, ell_groups, outputs, provenance=None):
     study, table = load_npz(study_path), json.load(open(table_path))
     names = definition_names(study)
     n = len(study["slowest"])
@@ -93,11 +94,11 @@ def main(study_path, table_path, ell_groups, outputs):
     ax.set_ylabel(r"$P(\nu < 0)$ in the group")
     ax.set_ylim(0, None)
     plotting.panel_label(ax, "c")
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         groups = [float(g) for g in snakemake.params.ell_groups]  # noqa: F821
         outputs = [snakemake.output.pdf, snakemake.output.png]  # noqa: F821
-        main(snakemake.input.study, snakemake.input.table, groups, outputs)  # noqa: F821
+        main(snakemake.input.study, snakemake.input.table, groups, outputs, provenance=for_job(snakemake))  # noqa: F821

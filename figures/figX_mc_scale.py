@@ -15,6 +15,7 @@ import numpy as np
 from pyfrustrate import plotting
 from pyfrustrate.ground_states import EQUILIBRATED_GAP
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 from pyfrustrate.montecarlo import largest_cluster_extent
 
 SCANS = {"fibre": ("Gamma", plotting.LABELS["Gamma"], "fibre scan"),
@@ -30,7 +31,7 @@ def rows_of(scale, nu, Gamma):
             if abs(scale["nu"][k] - nu) < 1e-9 and abs(scale["Gamma"][k] - Gamma) < 1e-9]
 
 
-def main(scale_path, run_paths, points, outputs):
+def main(scale_path, run_paths, points, outputs, provenance=None):
     scale = load_npz(scale_path)
     runs = {(round(float(r["nu"]), 9), round(float(r["Gamma"]), 9), int(r["seed"])): r
             for r in (load_npz(p) for p in run_paths)}
@@ -95,10 +96,11 @@ def main(scale_path, run_paths, points, outputs):
         k = rows_of(scale, nu, G)[0]
         ax.set_title(f"$\\nu$ = {nu:g}, $\\Gamma$ = {G:g}\n"
                      f"{float(scale['gap_ground'][k]):+.1f} $e_{{\\rm bulk}}$", fontsize=7)
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         main(snakemake.input.scale[0], snakemake.input.runs, snakemake.params.points,  # noqa: F821
-             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

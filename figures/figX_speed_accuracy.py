@@ -11,6 +11,7 @@ from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter
 
 from pyfrustrate import plotting
 from pyfrustrate.io import logging_to
+from pyfrustrate.provenance import for_job
 
 # Colour, marker and legend label of each method (colours apart from the phase colours).
 STYLES = {"linear": ("k", "s", "linear solve"), "lbfgs": ("#1b9e77", "o", "L-BFGS from the bulk"),
@@ -25,7 +26,7 @@ def family(method, start):
     return "linear"
 
 
-def main(csv_path, outputs):
+def main(csv_path, outputs, provenance=None):
     with open(csv_path) as fh:  # the first line is a comment: the run's provenance
         rows = [r for r in csv.DictReader(line for line in fh if not line.startswith("#")) if r["diverged"] == "False"]
     panels = defaultdict(list)
@@ -54,9 +55,10 @@ def main(csv_path, outputs):
             ax.set_ylabel("relative energy error")
     fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="upper center", ncol=4)
     fig.tight_layout(rect=(0, 0, 1, 0.93))
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

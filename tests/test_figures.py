@@ -110,10 +110,10 @@ def _run(script: str, rule: str, tmp_path: Path, inputs: _Named, outputs: _Named
     runpy.run_path(str(ROOT / script), init_globals={"snakemake": job}, run_name="__snakemake__")
 
 
-def _drawn(tmp_path, name, script, inputs):
+def _drawn(tmp_path, name, script, inputs, params=None):
     """Draw ``script`` on ``inputs``; return the findings stored in its PNG and its page size (cm)."""
     png, pdf = tmp_path / f"{name}.png", tmp_path / f"{name}.pdf"
-    _run(script, name, tmp_path, inputs, _Named(pdf=str(pdf), png=str(png)))
+    _run(script, name, tmp_path, inputs, _Named(pdf=str(pdf), png=str(png)), params)
     return _stored_check(png)
 
 
@@ -150,6 +150,26 @@ def test_figS4_drawn_from_scratch(tmp_path):
     problems, size_cm = _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", _Named())
     assert problems == []
     _assert_print_size(size_cm)
+
+
+@pytest.mark.parametrize("profile", ["quick", "paper"])
+def test_figure_records_the_profile_the_gallery_shows(tmp_path, profile):
+    """A figure rule passes the configuration's profile as a param; the figure's provenance
+    records it, and the documentation's gallery reads it back from the PNG."""
+    import importlib.util
+
+    from pyfrustrate.io import read_provenance
+
+    _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", _Named(), dict(profile=profile))
+    record = read_provenance(tmp_path / "figS4_pseudo_moduli.png")
+    assert record["parameters"]["profile"] == profile
+    assert record["rule"] == "figS4_pseudo_moduli"
+    spec = importlib.util.spec_from_file_location("figure_gallery", ROOT / "docs" / "_ext" / "figure_gallery.py")
+    gallery = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(gallery)
+    shown = gallery.profile_of(tmp_path / "figS4_pseudo_moduli.png")
+    other = {"quick": "paper", "paper": "quick"}[profile]
+    assert f"**{profile}** profile" in shown and other not in shown
 
 
 def test_continuum_diagram_drawn_from_scratch(tmp_path):
