@@ -55,7 +55,7 @@ def draw_cut_lines(ax, centre):
         # only 19 degrees apart, and their numbers at one end would touch.
         label = centre + (-0.68 if cut == 0 else 0.68) * HALF_WINDOW * direction
         ax.text(*label, str(cut), color="k", fontsize=7, fontweight="bold", ha="center", va="center", zorder=6,
-                path_effects=[withStroke(linewidth=2.0, foreground="w")])
+                path_effects=[withStroke(linewidth=2.0, foreground="w")], gid=plotting.OVER_PARTICLES)
 
 
 def main(data_path, outputs, provenance=None):

@@ -856,12 +856,42 @@ def _drawn_texts(fig):
     return shown
 
 
+# The gid of a text drawn over particles on purpose (a number labelling a line across a drawn
+# bulk); any other text over drawn particles hides data (check_figure).
+OVER_PARTICLES = "over-particles"
+
+
+def _particle_centres(ax) -> np.ndarray:
+    """Page positions (pixels) of the particles drawn in ``ax`` and visible in its view: the
+    polygons of its PolyCollections with at most six corners (hexagons, triangles; filled areas
+    such as ``fill_between`` have more)."""
+    view = ax.get_window_extent()
+    centres = []
+    for collection in ax.collections:
+        if not (isinstance(collection, PolyCollection) and collection.get_visible()):
+            continue
+        transform = collection.get_transform()
+        for path in collection.get_paths():
+            corners = path.vertices
+            if len(corners) > 1 and np.allclose(corners[0], corners[-1]):
+                corners = corners[:-1]  # a closed path repeats its first corner
+            if 3 <= len(corners) <= 6:
+                centres.append(transform.transform(corners).mean(axis=0))
+    if not centres:
+        return np.empty((0, 2))
+    centres = np.asarray(centres)
+    inside = ((centres[:, 0] >= view.x0) & (centres[:, 0] <= view.x1)
+              & (centres[:, 1] >= view.y0) & (centres[:, 1] <= view.y1))
+    return centres[inside]
+
+
 def check_figure(fig, overlap_px: float = 0.0) -> list[str]:
     """What a machine can check of a figure drawn at print size.
 
     The page is at most 17.8 cm wide (one column 8.6 cm, two 17.8 cm) and 23 cm tall; every
     text is at least 7 pt (free annotations 6 pt); no two texts overlap and none leaves the
-    page; no visible axes is empty.
+    page; no text covers drawn particles (the centre of a hexagon or triangle of a snapshot or
+    an aggregate), unless it says so with the gid ``OVER_PARTICLES``; no visible axes is empty.
 
     Parameters
     ----------
@@ -913,6 +943,15 @@ def check_figure(fig, overlap_px: float = 0.0) -> list[str]:
             dy = min(box_a.y1, box_b.y1) - max(box_a.y0, box_b.y0)
             if dx > overlap_px and dy > overlap_px:
                 problems.append(f"texts {a.get_text()!r} and {b.get_text()!r} overlap")
+    particles = [_particle_centres(ax) for ax in fig.axes if ax.get_visible()]
+    particles = np.concatenate(particles) if particles else np.empty((0, 2))
+    for t, box in boxes:
+        if t.get_gid() == OVER_PARTICLES or not len(particles):
+            continue
+        covered = ((particles[:, 0] > box.x0) & (particles[:, 0] < box.x1)
+                   & (particles[:, 1] > box.y0) & (particles[:, 1] < box.y1))
+        if covered.any():
+            problems.append(f"text {t.get_text()!r} covers {int(covered.sum())} drawn particles")
     for ax in fig.axes:
         if ax.get_visible() and not (ax.has_data() or ax.images or ax.texts or ax.get_legend()):
             problems.append(f"an empty axes at {tuple(round(v, 2) for v in ax.get_position().bounds)}")

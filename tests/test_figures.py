@@ -70,6 +70,37 @@ def test_checker_finds_text_off_the_page():
     assert any("leaves the page" in p for p in plotting.check_figure(fig))
 
 
+def _snapshot(note_at):
+    """A drawn row of ten hexagons (particle centres at x = 0..9, y = 0) and a note at ``note_at``
+    (data coordinates)."""
+    from pyfrustrate import topology
+
+    fig = plotting.figure(plotting.COLUMN_WIDTH_CM, 4.0)
+    ax = fig.add_axes([0.05, 0.05, 0.9, 0.9])
+    angles = np.pi / 6 + np.arange(6) * np.pi / 3
+    hexagon = np.column_stack([np.cos(angles), np.sin(angles)]) / np.sqrt(3)
+    centres = topology.site_positions(np.column_stack([np.arange(10), np.zeros(10, int)]))
+    plotting.draw_hexagons(ax, centres[:, None, :] + hexagon[None])
+    ax.set_xlim(-1, 10)
+    ax.set_ylim(-3, 3)
+    ax.axis("off")
+    note = ax.text(*note_at, "a note", ha="center", va="center", fontsize=7)
+    return fig, note
+
+
+def test_checker_finds_text_over_drawn_particles():
+    fig, _ = _snapshot((4.5, 0.0))
+    assert any("'a note' covers" in p and "drawn particles" in p for p in plotting.check_figure(fig))
+
+
+def test_checker_passes_text_beside_drawn_particles_or_over_them_on_purpose():
+    fig, _ = _snapshot((4.5, -2.2))
+    assert plotting.check_figure(fig) == []
+    fig, note = _snapshot((4.5, 0.0))
+    note.set_gid(plotting.OVER_PARTICLES)
+    assert plotting.check_figure(fig) == []
+
+
 def test_checker_finds_an_empty_axes():
     fig, _ = _figure()
     fig.add_axes([0.6, 0.6, 0.2, 0.2])
