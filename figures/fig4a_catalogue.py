@@ -17,7 +17,7 @@ PANELS = [
     ("fiber_cut1", "fibre, cut 1\n(zig-zag edges)"), ("fiber_cut2", "fibre, cut 2\n(stepped edges)"),
     ("single", "single particle"), ("disk_R1", "disk, $R$ = 1"), ("disk_R3", "disk, $R$ = 3"), ("bulk", "bulk"),
 ]
-WIDTH_CM, HEIGHT_CM, COLS = plotting.PAGE_WIDTH_CM, 8.7, 5
+WIDTH_CM, HEIGHT_CM, COLS = plotting.PAGE_WIDTH_CM, 8.2, 5
 PANEL_CM, HALF_WINDOW = 2.95, 7.0  # every panel shows 2 x HALF_WINDOW particle spacings across
 
 
@@ -83,7 +83,7 @@ def main(data_path, outputs, provenance=None):
             draw_cut_lines(ax, centre)
         ax.set_xlim(centre[0] - HALF_WINDOW, centre[0] + HALF_WINDOW)
         ax.set_ylim(centre[1] - HALF_WINDOW, centre[1] + HALF_WINDOW)
-        ax.set_title(title, pad=2)
+        ax.set_title(title, pad=4)  # clear of a fibre that fills its window
         ax.axis("off")
     plotting.panel_label(ax, "a", at_cm=(0.1, HEIGHT_CM - 0.1))
     cax = fig.add_axes([16.0 / WIDTH_CM, 1.0 / HEIGHT_CM, 0.22 / WIDTH_CM, 5.0 / HEIGHT_CM])
