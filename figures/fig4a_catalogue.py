@@ -17,8 +17,11 @@ PANELS = [
     ("fiber_cut1", "fibre, cut 1\n(zig-zag edges)"), ("fiber_cut2", "fibre, cut 2\n(stepped edges)"),
     ("single", "single particle"), ("disk_R1", "disk, $R$ = 1"), ("disk_R3", "disk, $R$ = 3"), ("bulk", "bulk"),
 ]
-WIDTH_CM, HEIGHT_CM, COLS = plotting.PAGE_WIDTH_CM, 8.2, 5
+WIDTH_CM, HEIGHT_CM, COLS = plotting.PAGE_WIDTH_CM, 7.6, 5
 PANEL_CM, HALF_WINDOW = 2.95, 7.0  # every panel shows 2 x HALF_WINDOW particle spacings across
+# Panel heights of the two rows (cm), on the one length scale: the second row's drawings (the
+# single particle, small disks, the curled fibre's lowest part) need less height than the first's.
+ROW_CM = (2.95, 2.3)
 
 
 def period_centres(corners, energy):
@@ -64,8 +67,9 @@ def main(data_path, outputs, provenance=None):
     norm = Normalize(0, 1.1)
     for n, (name, title) in enumerate(PANELS):
         i, j = divmod(n, COLS)
-        left, bottom = 0.15 + j * (PANEL_CM + 0.2), HEIGHT_CM - 1.3 - (i + 1) * PANEL_CM - i * 0.9
-        ax = fig.add_axes([left / WIDTH_CM, bottom / HEIGHT_CM, PANEL_CM / WIDTH_CM, PANEL_CM / HEIGHT_CM])
+        left, bottom = 0.15 + j * (PANEL_CM + 0.2), HEIGHT_CM - 1.3 - sum(ROW_CM[:i + 1]) - i * 0.9
+        ax = fig.add_axes([left / WIDTH_CM, bottom / HEIGHT_CM, PANEL_CM / WIDTH_CM, ROW_CM[i] / HEIGHT_CM])
+        half_height = HALF_WINDOW * ROW_CM[i] / PANEL_CM
         corners = d[f"{name}_corners"]
         polys = plotting.draw_hexagons(ax, corners, d[f"{name}_energy"], cmap="magma", norm=norm, linewidth=0.2)
         centre = np.asarray(corners).reshape(-1, 2).mean(axis=0)
@@ -76,13 +80,13 @@ def main(data_path, outputs, provenance=None):
             # Just under the drawn fibre (a curled one ends high in its window), inside the window.
             drawn = np.asarray(corners)
             shown = np.abs(drawn.mean(axis=1) - centre).max(axis=1) < HALF_WINDOW  # inside the window
-            lowest = max(drawn[shown][:, :, 1].min(), centre[1] - HALF_WINDOW)
+            lowest = max(drawn[shown][:, :, 1].min(), centre[1] - half_height)
             ax.text(centre[0], lowest - 0.3, "straight" if np.isinf(radius) else f"radius of curvature {radius:.0f}",
                     ha="center", va="top", fontsize=6, clip_on=False)
         if name == "bulk":
             draw_cut_lines(ax, centre)
         ax.set_xlim(centre[0] - HALF_WINDOW, centre[0] + HALF_WINDOW)
-        ax.set_ylim(centre[1] - HALF_WINDOW, centre[1] + HALF_WINDOW)
+        ax.set_ylim(centre[1] - half_height, centre[1] + half_height)
         ax.set_title(title, pad=4)  # clear of a fibre that fills its window
         ax.axis("off")
     plotting.panel_label(ax, "a", at_cm=(0.1, HEIGHT_CM - 0.1))
