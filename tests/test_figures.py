@@ -183,22 +183,46 @@ def test_figS4_drawn_from_scratch(tmp_path):
     _assert_print_size(size_cm)
 
 
+def _gallery():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("figure_gallery", ROOT / "docs" / "_ext" / "figure_gallery.py")
+    gallery = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(gallery)
+    return gallery
+
+
+def test_gallery_fills_captions_from_the_profile_that_made_the_figure():
+    """The gallery renders a caption's values from config/config.yaml with config/PROFILE.yaml over
+    it, as Snakemake's report does from its run's configuration, and leaves out the paragraph
+    naming the profile (the gallery states it from the PNG)."""
+    import yaml
+
+    gallery = _gallery()
+    caption = (ROOT / "workflow" / "report" / "fig3_phase_diagrams.rst").read_text()
+    quick = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["montecarlo"]["sweeps"]
+    paper = yaml.safe_load((ROOT / "config" / "paper.yaml").read_text())["montecarlo"]["sweeps"]
+    assert quick != paper
+    for profile, sweeps in ((None, quick), ("quick", quick), ("paper", paper)):
+        text = gallery.rendered_caption(caption, ROOT, profile)
+        assert "{{" not in text and "{%" not in text and "Made by the" not in text
+        assert f"simulated anneal of {sweeps} sweeps" in text, profile
+    # The quick profile's paragraph on unequilibrated runs is there for the quick profile only.
+    assert "not equilibrated" in gallery.rendered_caption(caption, ROOT, "quick")
+    assert "not equilibrated" not in gallery.rendered_caption(caption, ROOT, "paper")
+
+
 @pytest.mark.parametrize("profile", ["quick", "paper"])
 def test_figure_records_the_profile_the_gallery_shows(tmp_path, profile):
     """A figure rule passes the configuration's profile as a param; the figure's provenance
     records it, and the documentation's gallery reads it back from the PNG."""
-    import importlib.util
-
     from pyfrustrate.io import read_provenance
 
     _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", _Named(), dict(profile=profile))
     record = read_provenance(tmp_path / "figS4_pseudo_moduli.png")
     assert record["parameters"]["profile"] == profile
     assert record["rule"] == "figS4_pseudo_moduli"
-    spec = importlib.util.spec_from_file_location("figure_gallery", ROOT / "docs" / "_ext" / "figure_gallery.py")
-    gallery = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(gallery)
-    shown = gallery.profile_of(tmp_path / "figS4_pseudo_moduli.png")
+    shown = _gallery().profile_of(tmp_path / "figS4_pseudo_moduli.png")
     other = {"quick": "paper", "paper": "quick"}[profile]
     assert f"**{profile}** profile" in shown and other not in shown
 
