@@ -55,8 +55,11 @@ def draw_profile(fig, strip_ax, ax, fits):
         anchor = np.argmin(np.abs(d - 3 * length))
         ax.semilogy(d, excess[anchor] * np.exp(-(d - d[anchor]) / length), style, color="#d3002d", lw=1,
                     label=rf"{label}: $\ell={length:.2f}$")
-    ax.set_ylim(max(excess[ok].min(), 1e-8), 2 * excess.max())
-    ax.set_xlim(-0.05 * min(d[-1], 8 * fits["example_ell"]), min(d[-1], 8 * fits["example_ell"]))  # 0 clear of the corner
+    shown_depth = min(d[-1], 8 * fits["example_ell"])
+    # The energy range of the rows drawn (deeper rows sink to rounding and would stretch the axis).
+    drawn = ok & (d <= shown_depth)
+    ax.set_ylim(max(0.3 * excess[drawn].min(), 1e-8), 2 * excess.max())
+    ax.set_xlim(-0.05 * shown_depth, shown_depth)  # 0 clear of the corner
     ax.set_xlabel(f"distance from the edge ({plotting.LENGTH_UNIT})")
     ax.set_title("excess energy per particle")
     ax.set_ylabel(r"$|e - e_\mathrm{bulk}|/e_\mathrm{bulk}$")
