@@ -167,10 +167,7 @@ def draw_sizes_over_ell(ax, sizes, kind, nus=(0.0, 0.5, 0.9)):
     G = sizes["Gamma"]
     value = sizes[key] / sizes["ell"][:, None]
     keep = np.isfinite(value) & (value > 0) & ~sizes[f"{key}_capped"]
-    x = np.broadcast_to(G, value.shape)
-    jitter = np.random.default_rng(0).uniform(-0.3, 0.3, value.shape) * np.gradient(G)[None, :]  # drawing only
-    ax.plot((x + jitter)[keep], value[keep], ".", ms=1.2, color=plotting.PHASE_COLORS[kind], alpha=0.25,
-            rasterized=True)
+    plotting.draw_size_points(ax, G, value, keep, plotting.PHASE_COLORS[kind])
     line = np.linspace(0, 1.2, 400)
     if kind == "fiber":
         ax.plot(line, continuum.optimal_width(0.5, line), color="#d3002d", lw=1.2, label="continuum")

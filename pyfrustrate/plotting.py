@@ -410,6 +410,34 @@ def draw_distance_definitions(ax, corners, pairs, colors=None, fontsize: float =
     ax.set_aspect("equal")
 
 
+def draw_size_points(ax, Gamma, sizes, keep, color, **kwargs):
+    """Each random particle's best size at each line tension, as faint points (Figs. 5d, S2).
+
+    The points of a Gamma column are spread over a third of the spacing to the next (drawing
+    only, the same spread every time), so that the many particles of one column show as a band.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    Gamma : array_like, shape (m,)
+        The line tensions of the columns.
+    sizes : ndarray, shape (p, m)
+        One row per particle.
+    keep : ndarray of bool, shape (p, m)
+        The points to draw.
+    color : color
+        Their colour.
+    **kwargs
+        Passed to ``ax.plot``.
+    """
+    Gamma = np.asarray(Gamma, float)
+    x = np.broadcast_to(Gamma, sizes.shape)
+    spread = np.random.default_rng(0).uniform(-0.3, 0.3, sizes.shape) * np.gradient(Gamma)[None, :]
+    kwargs = dict(dict(ms=1.2, alpha=0.25, rasterized=True), **kwargs)
+    ax.plot((x + spread)[keep], sizes[keep], ".", color=color, **kwargs)
+
+
 def shaded_colormap(color, tint: float = 0.3):
     """A ramp from a light tint of ``color`` to ``color``, for sizes inside a phase's region.
 
