@@ -1,7 +1,9 @@
 """The figure gallery, generated at build time from the workflow itself: one entry per figure
 that a rule marks with ``figure_png(NAME)`` (workflow/rules/*.smk), with its caption from
-workflow/report/NAME.rst (the same text the Snakemake report shows), the rule and the script
-that draw it, and the PNG from results/figures/ when this checkout has built it. A figure not
+workflow/report/NAME.rst (the same text the Snakemake report shows, its values filled in from
+the configuration of the profile that made the figure), the rule and the script that draw it,
+and the PNG from results/figures/ when this checkout has built it, with the profile, commit and
+version its provenance records. A figure not
 built yet says which command makes it; that is not a warning, since a fresh clone has none.
 
 The page, docs/gallery.rst, is written when the build starts (and is not committed).
@@ -111,8 +113,9 @@ def gallery_page(root: Path) -> str:
              ".. _gallery:", "", "Figure gallery", "==============", "",
              "Every figure the workflow draws, with the caption the Snakemake report shows (one source for",
              "both: ``workflow/report/``), the paper figure it reproduces, the rule and script that make it",
-             "and, once built, what made it (from the provenance stored in the PNG). Figures appear here",
-             "after ``bash scripts/figures.sh`` has made them in this checkout; rebuild the site afterwards.", ""]
+             "and, once built, what made it: the profile (quick or paper), commit and version stored in the",
+             "PNG's provenance. A caption's values are those of that profile's configuration. Figures appear",
+             "here after ``bash scripts/figures.sh`` has made them in this checkout; rebuild the site afterwards.", ""]
     for section in ("Main text", "Supplement", "Beyond the paper"):
         lines += [section, "-" * len(section), ""]
         for name in sorted(n for n in rules if section_of(n) == section):
