@@ -56,7 +56,7 @@ def draw_springs(ax, corners, springs, kinds, linewidth=1.0, nodes=True, markers
 
 WIDTH_CM, HEIGHT_CM = plotting.PAGE_WIDTH_CM, 22.6
 SNAPSHOT_CM, CATALOGUE_HALF_WINDOW = 2.2, 5.0
-NOTE_CM = 0.35  # one line of 6 pt text under a snapshot
+NOTE_CM = 0.6  # two lines of 6 pt text under a snapshot
 
 
 def rect(left, bottom, w, h):
@@ -168,7 +168,7 @@ def panel_snapshots(fig, runs, finite, top):
             raise ValueError(f"finite_paths: no prediction for n = {int(r['n'])}, nu = {float(r['nu']):g}")
         shapes = ansatz.FiniteAggregates.from_arrays(prediction)
         best = int(shapes.best(float(r["g"])))
-        sub.text(0.5, -0.03, rf"$\Delta E$ = {plotting.gap_to_best_single(r, finite):+.1f} $e_{{\rm bulk}}$, "
+        sub.text(0.5, -0.03, rf"$\Delta E$ = {plotting.gap_to_best_single(r, finite):+.1f} $e_{{\rm bulk}}$" "\n"
                  f"best single: {shapes.width[best]:.1f} × {shapes.length[best]:.1f}", transform=sub.transAxes,
                  fontsize=6, ha="center", va="top")
 

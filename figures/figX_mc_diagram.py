@@ -94,9 +94,9 @@ def summary(mc, n) -> str:
 def main(mc_path, diagram_path, continuum_path, outputs, provenance=None, summary_path=None):
     mc = load_npz(mc_path)
     n = int(mc["n"][0])
-    width, height = plotting.PAGE_WIDTH_CM, 10.5
+    width, height = plotting.PAGE_WIDTH_CM, 9.6
     fig = plotting.figure(width, height)
-    ax = fig.add_axes([1.3 / width, 1.0 / height, 9.6 / width, 7.9 / height])
+    ax = fig.add_axes([1.3 / width, 0.95 / height, 9.6 / width, 7.3 / height])
     _, phases = plotting.draw_ansatz_diagram(ax, load_npz(diagram_path), load_npz(continuum_path))
     plotting.phase_legend(ax, phases, dashed_continuum=True, ncol=5, title="ansatz diagram (pale)")
     for mesh in ax.collections:
@@ -124,7 +124,7 @@ def main(mc_path, diagram_path, continuum_path, outputs, provenance=None, summar
     if elongated_not_fibre.any():
         handles.append(Line2D([], [], ls="", marker="$*$", color="k",
                               label=f"elongated, but the best single\naggregate of {n} is compact\n(e.g. fused disks)"))
-    fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(11.6 / width, 8.9 / height),
+    fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(11.6 / width, 8.3 / height),
                title="Monte Carlo runs:\nlargest final aggregate", alignment="left", labelspacing=0.8)
     plotting.save(fig, outputs, provenance)
     # The counts and the protocol go beside the figure, not into it: the caption's generated part
