@@ -59,7 +59,6 @@ def main(study_path, table_path, ell_groups, outputs, provenance=None):
     ax.set_ylabel(r"$P(\ell \geq x)$")
     ax.set_title(f"{n:,} random particles")
     ax.legend(loc="lower left")
-    ax.text(0.97, 0.97, "line styles: key of (b)", transform=ax.transAxes, ha="right", va="top")
     plotting.panel_label(ax, "a")
 
     ax = fig.add_axes([0.545, 0.17, 0.2, 0.73])
@@ -79,7 +78,7 @@ def main(study_path, table_path, ell_groups, outputs, provenance=None):
     ax.set_xlabel(r"median $\ell^{\rm pred}/\ell$ (dots)" "\n" r"$P(\ell^{\rm pred} > \ell)$ (bars)")
     plotting.panel_label(ax, "b")
 
-    ax = fig.add_axes([0.82, 0.2, 0.16, 0.7])
+    ax = fig.add_axes([0.81, 0.2, 0.16, 0.7])
     labels = []
     for g in range(len(ell_groups) - 1):
         hi = "\\infty" if ell_groups[g + 1] > 1e6 else f"{ell_groups[g + 1]:g}"
