@@ -894,20 +894,20 @@ def _particle_centres(ax) -> np.ndarray:
     polygons of its PolyCollections with at most six corners (hexagons, triangles; filled areas
     such as ``fill_between`` have more)."""
     view = ax.get_window_extent()
-    centres = []
+    found: list[np.ndarray] = []
     for collection in ax.collections:
         if not (isinstance(collection, PolyCollection) and collection.get_visible()):
             continue
         transform = collection.get_transform()
         for path in collection.get_paths():
-            corners = path.vertices
+            corners = np.asarray(path.vertices, float)
             if len(corners) > 1 and np.allclose(corners[0], corners[-1]):
                 corners = corners[:-1]  # a closed path repeats its first corner
             if 3 <= len(corners) <= 6:
-                centres.append(transform.transform(corners).mean(axis=0))
-    if not centres:
+                found.append(np.asarray(transform.transform(corners)).mean(axis=0))
+    if not found:
         return np.empty((0, 2))
-    centres = np.asarray(centres)
+    centres = np.asarray(found)
     inside = ((centres[:, 0] >= view.x0) & (centres[:, 0] <= view.x1)
               & (centres[:, 1] >= view.y0) & (centres[:, 1] <= view.y1))
     return centres[inside]
@@ -971,8 +971,8 @@ def check_figure(fig, overlap_px: float = 0.0) -> list[str]:
             dy = min(box_a.y1, box_b.y1) - max(box_a.y0, box_b.y0)
             if dx > overlap_px and dy > overlap_px:
                 problems.append(f"texts {a.get_text()!r} and {b.get_text()!r} overlap")
-    particles = [_particle_centres(ax) for ax in fig.axes if ax.get_visible()]
-    particles = np.concatenate(particles) if particles else np.empty((0, 2))
+    per_axes = [_particle_centres(ax) for ax in fig.axes if ax.get_visible()]
+    particles = np.concatenate(per_axes) if per_axes else np.empty((0, 2))
     for t, box in boxes:
         if t.get_gid() == OVER_PARTICLES or not len(particles):
             continue
