@@ -56,8 +56,9 @@ def draw_protocol(ax, dd, title, magnify, free=None):
         ax.plot(*rest[[a, b]].T, color=color, lw=0.8, alpha=0.35)
         ax.plot(*moved[[a, b]].T, color=color, lw=1.5, ls="--" if color == FREE_COLOR else "-")
     imposed = ~free
+    # Over the corner markers: the bulk protocols' displacements are about a marker's size.
     ax.quiver(*rest[imposed].T, *(magnify * u[imposed]).T, angles="xy", scale_units="xy", scale=1, width=0.012,
-              color="k")
+              headlength=3.5, headaxislength=3.0, color="k", zorder=4)
     colors = np.where(free, FREE_COLOR, np.array(plotting.CORNER_COLORS, dtype=object))
     ax.scatter(*rest.T, c=list(colors), s=12, edgecolors="k", linewidths=0.4, zorder=3)
     ax.set_aspect("equal")
