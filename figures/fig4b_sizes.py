@@ -43,7 +43,7 @@ def collapse_range(ells, medians) -> str:
 def main(data_path, outputs, provenance=None, summary_path=None):
     d = load_npz(data_path)
     G, ells = d["Gamma"], d["ells"]
-    fig = plotting.figure(plotting.PAGE_WIDTH_CM, 11.0)
+    fig = plotting.figure(plotting.PAGE_WIDTH_CM, 10.2)
     colors = ["#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02"]
     summary = []
     grid = fig.add_gridspec(2, 3, width_ratios=[1, 1, 0.5])
