@@ -8,6 +8,7 @@ from matplotlib.patches import Polygon
 
 from pyfrustrate import plotting
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 
 
 def draw_chain(ax, x_up, x_down):
@@ -29,7 +30,7 @@ def draw_chain(ax, x_up, x_down):
 WIDTH_CM, HEIGHT_CM = plotting.PAGE_WIDTH_CM, 8.6
 
 
-def main(data_path, outputs):
+def main(data_path, outputs, provenance=None):
     d = load_npz(data_path)
     fig = plotting.figure(WIDTH_CM, HEIGHT_CM)
 
@@ -60,16 +61,20 @@ def main(data_path, outputs):
 
     ax = fig.add_axes(rect(10.3, 0.9, 6.9, 4.6))
     x = d["scan_kc_over_k"]
-    ax.loglog(x, d["scan_ell_theory"], "-", color="k", lw=1.0, label="Eq. (3)")
-    ax.loglog(x, np.sqrt(1 / (2 * x)), "--", color="0.5", lw=0.8, label=r"$\sqrt{k/2k_c}$")
-    ax.loglog(x, d["scan_ell_fit"], "o", ms=3.5, mfc="none", color="#d95f02", label="fit to relaxed chains")
+    # The lines over the circles, and circles small and thin enough that a dense scan (the paper
+    # profile's 41 points over four decades) does not hide them.
+    ax.loglog(x, d["scan_ell_theory"], "-", color="k", lw=0.8, label="Eq. (3)", zorder=3)
+    ax.loglog(x, np.sqrt(1 / (2 * x)), "--", color="0.5", lw=0.8, label=r"$\sqrt{k/2k_c}$", zorder=3)
+    ax.loglog(x, d["scan_ell_fit"], "o", ms=3.0, mew=0.6, mfc="none", color="#d95f02", label="fit to relaxed chains",
+              zorder=2)
     ax.set_xlabel(r"coupling stiffness $k_c/k$")
     ax.set_ylabel(plotting.LABELS["ell"])
     ax.legend(loc="upper right")
     plotting.panel_label(ax, "c")
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

@@ -9,6 +9,7 @@ from matplotlib.colors import Normalize
 
 from pyfrustrate import plotting
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 
 
 WIDTH_CM, HEIGHT_CM = plotting.PAGE_WIDTH_CM, 6.0
@@ -19,7 +20,7 @@ def note(ax, text):
     ax.text(0.5, -0.02, text, transform=ax.transAxes, ha="center", va="top")
 
 
-def main(data_path, outputs):
+def main(data_path, outputs, provenance=None):
     d = load_npz(data_path)
     fig = plotting.figure(WIDTH_CM, HEIGHT_CM)
     norm = Normalize(0.3, 1.1)
@@ -56,9 +57,10 @@ def main(data_path, outputs):
     cax = fig.add_axes(rect(16.1, 1.0, 0.25, 4.0))
     fig.colorbar(polys, cax=cax, extend="both")
     cax.set_ylabel(plotting.LABELS["energy"])
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

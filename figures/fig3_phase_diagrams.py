@@ -12,6 +12,7 @@ import numpy as np
 
 from pyfrustrate import plotting
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 from pyfrustrate.montecarlo import largest_cluster_extent
 
 # Marker of each box on the diagram, and the same glyph on its snapshot panels.
@@ -19,7 +20,7 @@ BOX_MARKERS = {"sparse": ("s", "\u25a1"), "dense": ("D", "\u25c7")}
 WIDTH_CM, COLS = plotting.PAGE_WIDTH_CM, 5
 # Vertical layout (cm from the bottom): snapshot rows, then the two diagrams and their legend.
 SNAPSHOT_CM, SNAPSHOT_GAP_CM, DIAGRAM_CM = 2.75, 0.55, 5.2
-NOTE_CM = 0.6  # two lines of 6 pt text at a snapshot's foot
+NOTE_CM = 0.6  # two lines of 6 pt text under a snapshot
 
 
 def run_title(k, run, convention):
@@ -38,7 +39,7 @@ def gap_to_best_single(run, finite) -> float:
     return gap
 
 
-def main(diagram_path, continuum_path, snapshot_paths, finite_paths, dense, sweeps, convention, outputs):
+def main(diagram_path, continuum_path, snapshot_paths, finite_paths, dense, sweeps, convention, outputs, provenance=None):
     diagram, continuum = load_npz(diagram_path), load_npz(continuum_path)
     finite = [load_npz(p) for p in finite_paths]
     runs = sorted((load_npz(p) for p in snapshot_paths),
@@ -85,20 +86,19 @@ def main(diagram_path, continuum_path, snapshot_paths, finite_paths, dense, swee
              "in bulk particle energies $e_{\\rm bulk}$", va="bottom", fontsize=7)
     # Every panel on one scale, so that widths compare across panels: the largest extent of any
     # run's largest cluster, placed as draw_snapshot places it (centre in the box).
-    aspect = SNAPSHOT_CM / (WIDTH_CM / COLS - 0.15)
+    # The bottom NOTE_CM of each panel holds its two-line note, under the drawing (a note over it
+    # would hide the small clusters and single particles of the sparse box).
+    aspect = (SNAPSHOT_CM - NOTE_CM) / (WIDTH_CM / COLS - 0.15)
     extents = [largest_cluster_extent(r["sites"], int(r["box"])) for r in runs]
-    # The bottom NOTE_CM of each panel holds its two-line note: clusters are centred in the rest.
-    note = NOTE_CM / SNAPSHOT_CM
-    half = max(0.5 * max(x1 - x0, (y1 - y0) / (aspect * (1 - note))) for (x0, y0), (x1, y1) in extents) + 2.0
+    half = max(0.5 * max(x1 - x0, (y1 - y0) / aspect) for (x0, y0), (x1, y1) in extents) + 2.0
     panel_w = WIDTH_CM / COLS
     for k, (r, kind, ((x0, y0), (x1, y1))) in enumerate(zip(runs, kinds, extents), start=1):
         i, j = divmod(k - 1, COLS)
         bottom = snap_top - (i + 1) * (SNAPSHOT_CM + gap_cm) + 0.05
-        sub = fig.add_axes(rect(j * panel_w + 0.075, bottom, panel_w - 0.15, SNAPSHOT_CM))
+        sub = fig.add_axes(rect(j * panel_w + 0.075, bottom + NOTE_CM, panel_w - 0.15, SNAPSHOT_CM - NOTE_CM))
         plotting.draw_snapshot(r["sites"], int(r["box"]), ax=sub)
         sub.set_xlim(0.5 * (x0 + x1) - half, 0.5 * (x0 + x1) + half)
-        top = 0.5 * (y0 + y1) + aspect * half * (1 - note)
-        sub.set_ylim(top - 2 * aspect * half, top)
+        sub.set_ylim(0.5 * (y0 + y1) - aspect * half, 0.5 * (y0 + y1) + aspect * half)
         sub.set_axis_on()
         sub.set_xticks([])
         sub.set_yticks([])
@@ -107,11 +107,10 @@ def main(diagram_path, continuum_path, snapshot_paths, finite_paths, dense, swee
             spine.set_linewidth(0.4)
             spine.set_color("0.6")
         sub.set_title(run_title(k, r, convention), fontsize=7, pad=2)
-        sub.text(0.03, 0.03, f"{BOX_MARKERS[kind][1]} {int(r['n'])} in {plotting.box_label(int(r['box']))}, "
+        sub.text(0.0, -0.03, f"{BOX_MARKERS[kind][1]} {int(r['n'])} in {plotting.box_label(int(r['box']))}, "
                  f"{sweeps[kind]} sweeps\n" rf"$\Delta E$ = {gap_to_best_single(r, finite):+.1f} $e_{{\rm bulk}}$",
-                 transform=sub.transAxes, fontsize=6, va="bottom", zorder=10,
-                 bbox=dict(boxstyle="round,pad=0.15", fc="w", ec="none", alpha=0.85))
-    plotting.save(fig, outputs)
+                 transform=sub.transAxes, fontsize=6, va="top")
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
@@ -119,4 +118,5 @@ if "snakemake" in globals():
         main(snakemake.input.diagram, snakemake.input.continuum[0], snakemake.input.snapshots,  # noqa: F821
              snakemake.input.finite,  # noqa: F821
              snakemake.params.dense, snakemake.params.sweeps, snakemake.params.convention,  # noqa: F821
-             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

@@ -1,8 +1,9 @@
 """Fig. 4b: optimal fibre width W* (nu = 0.95) and disk radius R* (nu = 0.2) against Gamma for
 several ell. Left: in lattice units (numbers of particles), strongly ell-dependent. Right:
 divided by ell, against the continuum prediction (dashed red); each ell's legend entry gives
-its median W*/W*_continuum (R*/R*_continuum) over the Gamma grid, with the quartiles, and the
-footer the ell range over which the median is within COLLAPSE_TOLERANCE of 1.
+its median W*/W*_continuum (R*/R*_continuum) over the Gamma grid, with the quartiles; a file
+beside the figure (the rule's summary output) gives the ell range over which the median is
+within COLLAPSE_TOLERANCE of 1.
 
 Measured on the default profile (ell = 1, 2.5, 5, 10): fibres 1.34, 1.06, 1.02, 1.02, so the
 collapse holds within 10 % for ell >= 2.5 but not at ell = 1, where the fibres, one to four
@@ -12,7 +13,8 @@ the median); disks 1.06, 1.05, 1.04, 1.05, within 10 % down to ell = 1 in the me
 import numpy as np
 
 from pyfrustrate import plotting
-from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.io import load_npz, logging_to, save_json
+from pyfrustrate.provenance import for_job
 
 COLLAPSE_TOLERANCE = 0.10  # |median ratio - 1| within which we call the sizes collapsed
 
@@ -35,13 +37,13 @@ def collapse_range(ells, medians) -> str:
     if not ok[-1]:
         return "no ell"
     first = len(ok) - np.argmin(ok[::-1]) if not ok.all() else 0
-    return rf"$\ell \geq {ells[first]:g}$"
+    return f"ℓ ≥ {ells[first]:g}"
 
 
-def main(data_path, outputs):
+def main(data_path, outputs, provenance=None, summary_path=None):
     d = load_npz(data_path)
     G, ells = d["Gamma"], d["ells"]
-    fig = plotting.figure(plotting.PAGE_WIDTH_CM, 11.0)
+    fig = plotting.figure(plotting.PAGE_WIDTH_CM, 10.2)
     colors = ["#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02"]
     summary = []
     grid = fig.add_gridspec(2, 3, width_ratios=[1, 1, 0.5])
@@ -53,8 +55,8 @@ def main(data_path, outputs):
         for ell, med, (q1, q3) in zip(ells, medians, quartiles):
             print(f"{kind} ell = {ell:g}: median {symbol}*/{symbol}*_continuum = {med:.3f} "
                   f"(quartiles {q1:.3f}-{q3:.3f})")
-        summary.append(rf"${symbol}^*/{symbol}^*_\mathrm{{continuum}}$ within {100 * COLLAPSE_TOLERANCE:.0f} % "
-                       f"(median) for {collapse_range(ells, medians)}")
+        summary.append(f"{symbol}*/{symbol}*_continuum within {100 * COLLAPSE_TOLERANCE:.0f} % (median) for "
+                       f"{collapse_range(ells, medians)}")
         for col in range(2):
             ax = fig.add_subplot(grid[row, col])
             for ell, length, at_cap, med, (q1, q3), c in zip(ells, d[f"{kind}_length"], d[f"{kind}_at_cap"],
@@ -82,11 +84,16 @@ def main(data_path, outputs):
                 plotting.panel_label(ax, "b", dx_pt=-22)
             ax.set_xlim(0, G[-1])
             ax.set_ylim(0, None)
-    fig.tight_layout(rect=(0, 0.05, 1, 0.97))
-    fig.text(0.5, 0.01, "Collapse onto the continuum: " + "; ".join(summary) + ".", ha="center")
-    plotting.save(fig, outputs)
+    fig.tight_layout(rect=(0, 0, 1, 0.97))
+    plotting.save(fig, outputs, provenance)
+    # The conclusion goes beside the figure, not into it (the gallery shows it with the caption).
+    text = "Collapse onto the continuum: " + "; ".join(summary) + "."
+    print(text)
+    if summary_path is not None:
+        save_json(summary_path, {"summary": text}, provenance=provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+        main(snakemake.input[0], [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake), summary_path=snakemake.output.summary)  # noqa: F821

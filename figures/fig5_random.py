@@ -13,6 +13,7 @@ import numpy as np
 from pyfrustrate import continuum, plotting
 from pyfrustrate import random_particles as rp
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 
 
 def draw_distances(ax):
@@ -54,8 +55,11 @@ def draw_profile(fig, strip_ax, ax, fits):
         anchor = np.argmin(np.abs(d - 3 * length))
         ax.semilogy(d, excess[anchor] * np.exp(-(d - d[anchor]) / length), style, color="#d3002d", lw=1,
                     label=rf"{label}: $\ell={length:.2f}$")
-    ax.set_ylim(max(excess[ok].min(), 1e-8), 2 * excess.max())
-    ax.set_xlim(-0.05 * min(d[-1], 8 * fits["example_ell"]), min(d[-1], 8 * fits["example_ell"]))  # 0 clear of the corner
+    shown_depth = min(d[-1], 8 * fits["example_ell"])
+    # The energy range of the rows drawn (deeper rows sink to rounding and would stretch the axis).
+    drawn = ok & (d <= shown_depth)
+    ax.set_ylim(max(0.3 * excess[drawn].min(), 1e-8), 2 * excess.max())
+    ax.set_xlim(-0.05 * shown_depth, shown_depth)  # 0 clear of the corner
     ax.set_xlabel(f"distance from the edge ({plotting.LENGTH_UNIT})")
     ax.set_title("excess energy per particle")
     ax.set_ylabel(r"$|e - e_\mathrm{bulk}|/e_\mathrm{bulk}$")
@@ -163,10 +167,7 @@ def draw_sizes_over_ell(ax, sizes, kind, nus=(0.0, 0.5, 0.9)):
     G = sizes["Gamma"]
     value = sizes[key] / sizes["ell"][:, None]
     keep = np.isfinite(value) & (value > 0) & ~sizes[f"{key}_capped"]
-    x = np.broadcast_to(G, value.shape)
-    jitter = np.random.default_rng(0).uniform(-0.3, 0.3, value.shape) * np.gradient(G)[None, :]  # drawing only
-    ax.plot((x + jitter)[keep], value[keep], ".", ms=1.2, color=plotting.PHASE_COLORS[kind], alpha=0.25,
-            rasterized=True)
+    plotting.draw_size_points(ax, G, value, keep, plotting.PHASE_COLORS[kind])
     line = np.linspace(0, 1.2, 400)
     if kind == "fiber":
         ax.plot(line, continuum.optimal_width(0.5, line), color="#d3002d", lw=1.2, label="continuum")
@@ -181,7 +182,7 @@ def draw_sizes_over_ell(ax, sizes, kind, nus=(0.0, 0.5, 0.9)):
     ax.legend(loc="upper left")
 
 
-def main(summary_path, fits_path, size_paths, outputs):
+def main(summary_path, fits_path, size_paths, outputs, provenance=None):
     summary, fits = load_npz(summary_path), load_npz(fits_path)
     parts = [load_npz(p) for p in size_paths]
     sizes = {k: np.concatenate([s[k] for s in parts]) for k in
@@ -220,10 +221,11 @@ def main(summary_path, fits_path, size_paths, outputs):
     draw_size_ratios(ax_w, sizes, "fiber")
     draw_size_ratios(ax_r, sizes, "disk")
     plotting.panel_label(ax_w, "e", dy_pt=16)
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         main(snakemake.input.summary, snakemake.input.fits[0], snakemake.input.sizes,  # noqa: F821
-             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

@@ -13,6 +13,7 @@ from matplotlib.colors import ListedColormap
 from pyfrustrate import continuum, plotting
 from pyfrustrate import random_particles as rp
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 
 
 CONTINUUM_FROM_ELL = 1.5  # groups starting at or above it get the continuum overlay
@@ -30,7 +31,7 @@ def expand(X):
     return np.where(X <= LINEAR_UNTIL, X, LINEAR_UNTIL * np.exp((np.maximum(X, LINEAR_UNTIL) - LINEAR_UNTIL) / LOG_WIDTH))
 
 
-def main(paths, edges, outputs):
+def main(paths, edges, outputs, provenance=None):
     # Snakemake flattens the per-group lists of batch files: regroup them by name.
     group_paths = [[p for p in paths if f"/group{i}_" in str(p)] for i in range(len(edges) - 1)]
     line_nu = np.linspace(-0.99, 1.0, 400)
@@ -83,10 +84,11 @@ def main(paths, edges, outputs):
     plotting.phase_legend(axes[1], rp.PHASE_CODES, dashed_continuum=True, ncol=5, loc="upper center",
                           bbox_to_anchor=(0.5, (height_cm - 0.05 - 1.1) / 4.9))  # at the page's top
     plotting.size_colorbars(fig, meshes, (15.5, 1.1, 4.4), gap_cm=1.1)
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         main(snakemake.input.groups, snakemake.params.ell_groups,  # noqa: F821
-             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

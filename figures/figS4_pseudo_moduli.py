@@ -18,6 +18,7 @@ import numpy as np
 from pyfrustrate import Hexagon, plotting
 from pyfrustrate import random_particles as rp
 from pyfrustrate.io import logging_to
+from pyfrustrate.provenance import for_job
 
 YELLOW_SLOTS = np.arange(6) % 2 == 1  # odd slots yellow, even red (REST_CORNERS)
 SYMBOLS = {"kappa_c": r"$\kappa_c$", "K": r"$K = \lambda + \mu$", "mu": r"$\mu$"}
@@ -55,8 +56,9 @@ def draw_protocol(ax, dd, title, magnify, free=None):
         ax.plot(*rest[[a, b]].T, color=color, lw=0.8, alpha=0.35)
         ax.plot(*moved[[a, b]].T, color=color, lw=1.5, ls="--" if color == FREE_COLOR else "-")
     imposed = ~free
+    # Over the corner markers: the bulk protocols' displacements are about a marker's size.
     ax.quiver(*rest[imposed].T, *(magnify * u[imposed]).T, angles="xy", scale_units="xy", scale=1, width=0.012,
-              color="k")
+              headlength=3.5, headaxislength=3.0, color="k", zorder=4)
     colors = np.where(free, FREE_COLOR, np.array(plotting.CORNER_COLORS, dtype=object))
     ax.scatter(*rest.T, c=list(colors), s=12, edgecolors="k", linewidths=0.4, zorder=3)
     ax.set_aspect("equal")
@@ -70,7 +72,7 @@ def value_text(ax, text):
     ax.text(0.5, -0.04, text, transform=ax.transAxes, ha="center", va="top", fontsize=6.5)
 
 
-def main(outputs, ell=5.0, nu=0.5, magnify=0.35, drawing_eps=0.15):
+def main(outputs, ell=5.0, nu=0.5, magnify=0.35, drawing_eps=0.15, provenance=None):
     simple = Hexagon.from_continuum(ell, nu, eps=0.01)
     particle = rp.RandomHexagon.from_hexagon(simple)
     moduli = particle.moduli
@@ -121,9 +123,10 @@ def main(outputs, ell=5.0, nu=0.5, magnify=0.35, drawing_eps=0.15):
         value_text(ax, f"simple particle: {moduli[name]:.4g}\ncontinuum {SYMBOLS[ref]}: {reference[ref]:.4g}")
     print(f"kappa_c of the simple particle: horizontal shift {kappa_horizontal:.12g}, "
           f"vertical shift {kappa_vertical:.12g}, continuum {reference['kappa_c']:.12g}")
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main([snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+        main([snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

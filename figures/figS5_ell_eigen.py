@@ -9,13 +9,14 @@ from matplotlib.colors import LogNorm
 
 from pyfrustrate import plotting
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 
 WIDTH_CM, HEIGHT_CM = plotting.PAGE_WIDTH_CM, 6.8
 # (ell_eigen range, ell range) of the two close-ups, and where each is drawn (left cm).
 CLOSE_UPS = (((0.5, 6.0), (0.2, 3.0), 1.2), ((6.0, 60.0), (0.2, 3.0), 13.3))
 
 
-def main(summary_path, outputs):
+def main(summary_path, outputs, provenance=None):
     s = load_npz(summary_path)
     ell, eig = s["plotted_ell"].astype(float), s["plotted_ell_eigen"].astype(float)
     ok = np.isfinite(eig) & (ell > 0) & (eig > 0)
@@ -56,9 +57,10 @@ def main(summary_path, outputs):
         for spine in ("top", "right"):
             sub.spines[spine].set_visible(True)
         plotting.panel_label(sub, label)
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main(snakemake.input.summary, [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+        main(snakemake.input.summary, [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

@@ -11,6 +11,7 @@ from matplotlib.colors import Normalize
 
 from pyfrustrate import ansatz, plotting
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 from pyfrustrate.montecarlo import clusters
 from pyfrustrate.topology import site_positions
 
@@ -55,7 +56,7 @@ def draw_springs(ax, corners, springs, kinds, linewidth=1.0, nodes=True, markers
 
 WIDTH_CM, HEIGHT_CM = plotting.PAGE_WIDTH_CM, 22.6
 SNAPSHOT_CM, CATALOGUE_HALF_WINDOW = 2.2, 5.0
-NOTE_CM = 0.6  # two lines of 6 pt text at a snapshot's foot
+NOTE_CM = 0.6  # two lines of 6 pt text under a snapshot
 
 
 def rect(left, bottom, w, h):
@@ -132,15 +133,16 @@ def panel_diagram(fig, diagram, continuum, runs, top):
 
 
 def panel_snapshots(fig, runs, finite, top):
-    """Each run centred on its largest cluster, in the part of its panel above its note: the
-    final energy above the best single aggregate of as many triangles (Delta E), and that
-    aggregate's width x length (gyration dimensions, particle spacings)."""
+    """Each run centred on its largest cluster, and under it (outside the drawing, so that it
+    covers no cluster) its note: the final energy above the best single aggregate of as many
+    triangles (Delta E), and that aggregate's width x length (gyration dimensions, particle
+    spacings)."""
     cols = 4
     panel_w, panel_h = WIDTH_CM / cols, SNAPSHOT_CM
-    note = NOTE_CM / panel_h
     for k, r in enumerate(runs, start=1):
         i, j = divmod(k - 1, cols)
-        sub = fig.add_axes(rect(j * panel_w + 0.1, top - (i + 1) * (panel_h + 0.55), panel_w - 0.2, panel_h))
+        bottom = top - (i + 1) * (panel_h + 0.55)
+        sub = fig.add_axes(rect(j * panel_w + 0.1, bottom + NOTE_CM, panel_w - 0.2, panel_h - NOTE_CM))
         box = int(r["box"])
         plotting.draw_snapshot(r["sites"], box, ax=sub, tiling=TILING)
         coords, _ = clusters(r["sites"], box, TILING)[0]
@@ -148,12 +150,11 @@ def panel_snapshots(fig, runs, finite, top):
         coords[:, :2] -= np.floor(coords[:, :2].mean(axis=0) / box).astype(int) * box
         xy = site_positions(coords, TILING)
         c = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
-        aspect = panel_h / (panel_w - 0.2)
+        aspect = (panel_h - NOTE_CM) / (panel_w - 0.2)
         extent = np.ptp(xy, axis=0)
-        half = max(12.0, 0.5 * max(extent[0], extent[1] / (aspect * (1 - note))) + 2)
+        half = max(12.0, 0.5 * max(extent[0], extent[1] / aspect) + 2)
         sub.set_xlim(c[0] - half, c[0] + half)
-        window_top = c[1] + aspect * half * (1 - note)
-        sub.set_ylim(window_top - 2 * aspect * half, window_top)
+        sub.set_ylim(c[1] - aspect * half, c[1] + aspect * half)
         sub.set_axis_on()
         sub.set_xticks([])
         sub.set_yticks([])
@@ -167,9 +168,9 @@ def panel_snapshots(fig, runs, finite, top):
             raise ValueError(f"finite_paths: no prediction for n = {int(r['n'])}, nu = {float(r['nu']):g}")
         shapes = ansatz.FiniteAggregates.from_arrays(prediction)
         best = int(shapes.best(float(r["g"])))
-        sub.text(0.03, 0.03, rf"$\Delta E$ = {plotting.gap_to_best_single(r, finite):+.1f} $e_{{\rm bulk}}$" "\n"
+        sub.text(0.5, -0.03, rf"$\Delta E$ = {plotting.gap_to_best_single(r, finite):+.1f} $e_{{\rm bulk}}$" "\n"
                  f"best single: {shapes.width[best]:.1f} × {shapes.length[best]:.1f}", transform=sub.transAxes,
-                 fontsize=6, va="bottom", bbox=dict(boxstyle="round,pad=0.15", fc="w", ec="none", alpha=0.85))
+                 fontsize=6, ha="center", va="top")
 
 
 def panel_catalogue(fig, d, norm, top):
@@ -189,7 +190,7 @@ def panel_catalogue(fig, d, norm, top):
             letter(fig, ax, "e", 0.1, top + 0.1)
 
 
-def main(shapes_path, diagram_path, continuum_path, snapshot_paths, finite_paths, outputs):
+def main(shapes_path, diagram_path, continuum_path, snapshot_paths, finite_paths, outputs, provenance=None):
     d = load_npz(shapes_path)
     diagram = load_npz(diagram_path)
     runs = sorted((load_npz(p) for p in snapshot_paths), key=lambda r: (-float(r["nu"]), float(r["Gamma"])))
@@ -205,11 +206,12 @@ def main(shapes_path, diagram_path, continuum_path, snapshot_paths, finite_paths
     panel_snapshots(fig, runs, [load_npz(p) for p in finite_paths], top)
     top -= 2 * (SNAPSHOT_CM + 0.55) + 0.2
     panel_catalogue(fig, d, norm, top)
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         main(snakemake.input.shapes, snakemake.input.diagram, snakemake.input.continuum[0],  # noqa: F821
              snakemake.input.snapshots, snakemake.input.finite,  # noqa: F821
-             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

@@ -18,6 +18,7 @@ import numpy as np
 from pyfrustrate import plotting
 from pyfrustrate.boundary_layer import definition_names
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 
 PAPER_THRESHOLD, PAPER_FRACTION = 1.5, 1.25e5 / 3e7
 
@@ -36,7 +37,7 @@ def style(name):
     return cmap(shade), "-" if reference == "centre" else ":", f"slab fit, depth {depth}, vs {reference}"
 
 
-def main(study_path, table_path, ell_groups, outputs):
+def main(study_path, table_path, ell_groups, outputs, provenance=None):
     study, table = load_npz(study_path), json.load(open(table_path))
     names = definition_names(study)
     n = len(study["slowest"])
@@ -58,7 +59,6 @@ def main(study_path, table_path, ell_groups, outputs):
     ax.set_ylabel(r"$P(\ell \geq x)$")
     ax.set_title(f"{n:,} random particles")
     ax.legend(loc="lower left")
-    ax.text(0.97, 0.97, "line styles: key of (b)", transform=ax.transAxes, ha="right", va="top")
     plotting.panel_label(ax, "a")
 
     ax = fig.add_axes([0.545, 0.17, 0.2, 0.73])
@@ -78,7 +78,7 @@ def main(study_path, table_path, ell_groups, outputs):
     ax.set_xlabel(r"median $\ell^{\rm pred}/\ell$ (dots)" "\n" r"$P(\ell^{\rm pred} > \ell)$ (bars)")
     plotting.panel_label(ax, "b")
 
-    ax = fig.add_axes([0.82, 0.2, 0.16, 0.7])
+    ax = fig.add_axes([0.81, 0.2, 0.16, 0.7])
     labels = []
     for g in range(len(ell_groups) - 1):
         hi = "\\infty" if ell_groups[g + 1] > 1e6 else f"{ell_groups[g + 1]:g}"
@@ -93,11 +93,11 @@ def main(study_path, table_path, ell_groups, outputs):
     ax.set_ylabel(r"$P(\nu < 0)$ in the group")
     ax.set_ylim(0, None)
     plotting.panel_label(ax, "c")
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         groups = [float(g) for g in snakemake.params.ell_groups]  # noqa: F821
         outputs = [snakemake.output.pdf, snakemake.output.png]  # noqa: F821
-        main(snakemake.input.study, snakemake.input.table, groups, outputs)  # noqa: F821
+        main(snakemake.input.study, snakemake.input.table, groups, outputs, provenance=for_job(snakemake))  # noqa: F821

@@ -9,14 +9,13 @@ aggregate of the same n is elongated (ansatz.finite_aggregates), and a hollow ma
 ended more than EQUILIBRATED_GAP bulk particle energies above the box's predicted ground state
 (the best of ground_states.box_candidates: single aggregates, a fibre wrapping the box, several
 aggregates, the gas), i.e. not equilibrated; the gaps are in the log of montecarlo_diagram."""
-import textwrap
-
 import numpy as np
 from matplotlib.lines import Line2D
 
 from pyfrustrate import plotting, topology
 from pyfrustrate.ground_states import EQUILIBRATED_GAP
-from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.io import load_npz, logging_to, save_json
+from pyfrustrate.provenance import for_job
 
 MARKERS = {"disk": "o", "fiber": "s", "bulk": "D", "bulk_with_holes": "^", "gas": "x"}
 
@@ -82,12 +81,22 @@ def protocol(mc, n):
             "at low temperature")
 
 
-def main(mc_path, diagram_path, continuum_path, outputs):
+def summary(mc, n) -> str:
+    """The runs in numbers, for the caption: how many ended within the criterion and in their
+    ground state's structure, the protocol, and what the runs above the criterion got wrong."""
+    within = int((mc["gap_ground"] <= EQUILIBRATED_GAP).sum())
+    same = int((mc["structure"] == mc["ground_family"]).sum())
+    counts = (f"{within} of {len(mc['gap_ground'])} runs end within {EQUILIBRATED_GAP:g} bulk particle energies of "
+              f"their box's predicted ground state; {same} in its structure. {protocol(mc, n)}.")
+    return " ".join([counts, *hollow_markers_explained(mc, n)])
+
+
+def main(mc_path, diagram_path, continuum_path, outputs, provenance=None, summary_path=None):
     mc = load_npz(mc_path)
     n = int(mc["n"][0])
-    width, height = plotting.PAGE_WIDTH_CM, 10.5
+    width, height = plotting.PAGE_WIDTH_CM, 9.6
     fig = plotting.figure(width, height)
-    ax = fig.add_axes([1.3 / width, 1.0 / height, 9.6 / width, 7.9 / height])
+    ax = fig.add_axes([1.3 / width, 0.95 / height, 9.6 / width, 7.3 / height])
     _, phases = plotting.draw_ansatz_diagram(ax, load_npz(diagram_path), load_npz(continuum_path))
     plotting.phase_legend(ax, phases, dashed_continuum=True, ncol=5, title="ansatz diagram (pale)")
     for mesh in ax.collections:
@@ -115,20 +124,22 @@ def main(mc_path, diagram_path, continuum_path, outputs):
     if elongated_not_fibre.any():
         handles.append(Line2D([], [], ls="", marker="$*$", color="k",
                               label=f"elongated, but the best single\naggregate of {n} is compact\n(e.g. fused disks)"))
-    fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(11.6 / width, 8.9 / height),
+    fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(11.6 / width, 8.3 / height),
                title="Monte Carlo runs:\nlargest final aggregate", alignment="left", labelspacing=0.8)
-    within = int((mc["gap_ground"] <= EQUILIBRATED_GAP).sum())
-    same = int((mc["structure"] == mc["ground_family"]).sum())
-    summary = (f"{within} of {len(mc['gap_ground'])} runs end within {EQUILIBRATED_GAP:g} bulk particle energies of "
-               f"their box's predicted ground state; {same} in its structure. {protocol(mc, n)}. Numbers: size of "
-               "the largest aggregate.")
-    fig.text(11.6 / width, 0.3 / height, textwrap.fill(summary, 44), va="bottom")
-    for line in hollow_markers_explained(mc, n):  # the runs above the criterion, read from their clusters
-        print(line)
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
+    # The counts and the protocol go beside the figure, not into it: the caption's generated part
+    # (the gallery shows it under the caption; the report lists the file with the figure).
+    text = summary(mc, n)
+    print(text)
+    if summary_path is not None:
+        save_json(summary_path, {"summary": text, "runs": int(len(mc["gap_ground"])),
+                                 "within": int((mc["gap_ground"] <= EQUILIBRATED_GAP).sum()),
+                                 "same_structure": int((mc["structure"] == mc["ground_family"]).sum())},
+                  provenance=provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         main(snakemake.input.montecarlo[0], snakemake.input.diagram, snakemake.input.continuum[0],  # noqa: F821
-             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png], provenance=for_job(snakemake),  # noqa: F821
+             summary_path=snakemake.output.summary)  # noqa: F821

@@ -14,6 +14,7 @@ import numpy as np
 
 from pyfrustrate import continuum, plotting
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 from pyfrustrate.montecarlo import clusters
 from pyfrustrate.topology import gyration_dimensions, site_positions
 
@@ -24,7 +25,7 @@ def largest_aggregate(run):
     return coords, rank
 
 
-def main(run_paths, finite_paths, outputs):
+def main(run_paths, finite_paths, outputs, provenance=None):
     runs = [load_npz(p) for p in run_paths]
     finite = [load_npz(p) for p in finite_paths]
     nu_fibre = max(float(r["nu"]) for r in runs if str(r["kind"]) == "sparse")
@@ -103,9 +104,10 @@ def main(run_paths, finite_paths, outputs):
         fig.text(7.5 / width_cm, (height_cm - 0.2) / height_cm,
                  f"Monte Carlo, {int(large[0]['n'])} particles in {plotting.box_label(int(large[0]['box']))} sites",
                  va="top")
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
-        main(snakemake.input.runs, snakemake.input.finite, [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+        main(snakemake.input.runs, snakemake.input.finite, [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

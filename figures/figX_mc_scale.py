@@ -15,6 +15,7 @@ import numpy as np
 from pyfrustrate import plotting
 from pyfrustrate.ground_states import EQUILIBRATED_GAP
 from pyfrustrate.io import load_npz, logging_to
+from pyfrustrate.provenance import for_job
 from pyfrustrate.montecarlo import largest_cluster_extent
 
 SCANS = {"fibre": ("Gamma", plotting.LABELS["Gamma"], "fibre scan"),
@@ -30,18 +31,32 @@ def rows_of(scale, nu, Gamma):
             if abs(scale["nu"][k] - nu) < 1e-9 and abs(scale["Gamma"][k] - Gamma) < 1e-9]
 
 
-def main(scale_path, run_paths, points, outputs):
+def main(scale_path, run_paths, points, outputs, provenance=None):
     scale = load_npz(scale_path)
     runs = {(round(float(r["nu"]), 9), round(float(r["Gamma"]), 9), int(r["seed"])): r
             for r in (load_npz(p) for p in run_paths)}
     seeds = sorted({int(s) for s in scale["seed"]})
     n, box = int(scale["n"][0]), int(next(iter(runs.values()))["box"])
     scans = [s for s in SCANS if any(p[0] == s for p in points)]
-    fig = plotting.figure(plotting.PAGE_WIDTH_CM, 10.5)
-    top, width = 0.55, 0.25
+    # Snapshots of the first seed at each distinct point (the scans share some).
+    scans_at = {}
+    for scan, nu, G in points:
+        scans_at.setdefault((round(float(nu), 9), round(float(G), 9)), []).append(scan)
+    shown = [(scans, nu, G, runs.get((nu, G, seeds[0]))) for (nu, G), scans in scans_at.items()]
+    shown = [item for item in shown if item[3] is not None]
+    # Page layout in cm, from the bottom: the snapshots (square, as wide as a column of them
+    # allows, so that no blank band surrounds their drawings) and their two-line titles, room for
+    # the scans' axis labels, the scans' axes and their titles.
+    page_w = plotting.PAGE_WIDTH_CM
+    slot = (page_w - 0.3) / max(len(shown), 1)
+    side = min(slot - 0.15, 4.0)
+    scans_bottom = 0.1 + side + 0.75 + 1.05
+    scans_height = 3.9
+    page_h = scans_bottom + scans_height + 0.7
+    fig = plotting.figure(page_w, page_h)
     for i, scan in enumerate(scans):
         variable, label, title = SCANS[scan]
-        ax = fig.add_axes([0.08 + i * 0.32, top, width, 0.37])
+        ax = fig.add_axes([(1.4 + i * 5.7) / page_w, scans_bottom / page_h, 4.45 / page_w, scans_height / page_h])
         ax.axhspan(-1e9, EQUILIBRATED_GAP, color="0.88", zorder=0)
         ax.axhline(0, color="0.5", lw=0.6, zorder=1)
         xs, highest = [], EQUILIBRATED_GAP
@@ -75,18 +90,11 @@ def main(scale_path, run_paths, points, outputs):
             for s, seed in enumerate(seeds):
                 ax.plot([], [], SEED_MARKERS[s % len(SEED_MARKERS)], ms=4, mfc="w", mec="0.3", label=f"seed {seed}")
             ax.legend(loc="upper left", handletextpad=0.2)
-    # Snapshots of the first seed at each distinct point (the scans share some), each centred on
-    # its largest cluster, all on one scale (the largest extent of any of them).
-    scans_at = {}
-    for scan, nu, G in points:
-        scans_at.setdefault((round(float(nu), 9), round(float(G), 9)), []).append(scan)
-    shown = [(scans, nu, G, runs.get((nu, G, seeds[0]))) for (nu, G), scans in scans_at.items()]
-    shown = [item for item in shown if item[3] is not None]
+    # Each snapshot centred on its largest cluster, all on one scale (the largest extent of any).
     extents = [largest_cluster_extent(run["sites"], box) for *_, run in shown]
     half = max(0.5 * max(x1 - x0, y1 - y0) for (x0, y0), (x1, y1) in extents) + 2.0
-    width = 0.92 / max(len(shown), 1)
     for j, ((scans, nu, G, run), ((x0, y0), (x1, y1))) in enumerate(zip(shown, extents)):
-        ax = fig.add_axes([0.04 + j * width, 0.02, width * 0.96, 0.33])
+        ax = fig.add_axes([(0.15 + j * slot + 0.5 * (slot - side)) / page_w, 0.1 / page_h, side / page_w, side / page_h])
         plotting.draw_snapshot(run["sites"], box, ax=ax)
         ax.set_xlim(0.5 * (x0 + x1) - half, 0.5 * (x0 + x1) + half)
         ax.set_ylim(0.5 * (y0 + y1) - half, 0.5 * (y0 + y1) + half)
@@ -95,10 +103,11 @@ def main(scale_path, run_paths, points, outputs):
         k = rows_of(scale, nu, G)[0]
         ax.set_title(f"$\\nu$ = {nu:g}, $\\Gamma$ = {G:g}\n"
                      f"{float(scale['gap_ground'][k]):+.1f} $e_{{\\rm bulk}}$", fontsize=7)
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         main(snakemake.input.scale[0], snakemake.input.runs, snakemake.params.points,  # noqa: F821
-             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png],  # noqa: F821
+             provenance=for_job(snakemake))  # noqa: F821

@@ -410,6 +410,34 @@ def draw_distance_definitions(ax, corners, pairs, colors=None, fontsize: float =
     ax.set_aspect("equal")
 
 
+def draw_size_points(ax, Gamma, sizes, keep, color, **kwargs):
+    """Each random particle's best size at each line tension, as faint points (Figs. 5d, S2).
+
+    The points of a Gamma column are spread over a third of the spacing to the next (drawing
+    only, the same spread every time), so that the many particles of one column show as a band.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    Gamma : array_like, shape (m,)
+        The line tensions of the columns.
+    sizes : ndarray, shape (p, m)
+        One row per particle.
+    keep : ndarray of bool, shape (p, m)
+        The points to draw.
+    color : color
+        Their colour.
+    **kwargs
+        Passed to ``ax.plot``.
+    """
+    Gamma = np.asarray(Gamma, float)
+    x = np.broadcast_to(Gamma, sizes.shape)
+    spread = np.random.default_rng(0).uniform(-0.3, 0.3, sizes.shape) * np.gradient(Gamma)[None, :]
+    kwargs = dict(dict(ms=1.2, alpha=0.25, rasterized=True), **kwargs)
+    ax.plot((x + spread)[keep], sizes[keep], ".", color=color, **kwargs)
+
+
 def shaded_colormap(color, tint: float = 0.3):
     """A ramp from a light tint of ``color`` to ``color``, for sizes inside a phase's region.
 
@@ -856,12 +884,42 @@ def _drawn_texts(fig):
     return shown
 
 
+# The gid of a text drawn over particles on purpose (a number labelling a line across a drawn
+# bulk); any other text over drawn particles hides data (check_figure).
+OVER_PARTICLES = "over-particles"
+
+
+def _particle_centres(ax) -> np.ndarray:
+    """Page positions (pixels) of the particles drawn in ``ax`` and visible in its view: the
+    polygons of its PolyCollections with at most six corners (hexagons, triangles; filled areas
+    such as ``fill_between`` have more)."""
+    view = ax.get_window_extent()
+    found: list[np.ndarray] = []
+    for collection in ax.collections:
+        if not (isinstance(collection, PolyCollection) and collection.get_visible()):
+            continue
+        transform = collection.get_transform()
+        for path in collection.get_paths():
+            corners = np.asarray(path.vertices, float)
+            if len(corners) > 1 and np.allclose(corners[0], corners[-1]):
+                corners = corners[:-1]  # a closed path repeats its first corner
+            if 3 <= len(corners) <= 6:
+                found.append(np.asarray(transform.transform(corners)).mean(axis=0))
+    if not found:
+        return np.empty((0, 2))
+    centres = np.asarray(found)
+    inside = ((centres[:, 0] >= view.x0) & (centres[:, 0] <= view.x1)
+              & (centres[:, 1] >= view.y0) & (centres[:, 1] <= view.y1))
+    return centres[inside]
+
+
 def check_figure(fig, overlap_px: float = 0.0) -> list[str]:
     """What a machine can check of a figure drawn at print size.
 
     The page is at most 17.8 cm wide (one column 8.6 cm, two 17.8 cm) and 23 cm tall; every
     text is at least 7 pt (free annotations 6 pt); no two texts overlap and none leaves the
-    page; no visible axes is empty.
+    page; no text covers drawn particles (the centre of a hexagon or triangle of a snapshot or
+    an aggregate), unless it says so with the gid ``OVER_PARTICLES``; no visible axes is empty.
 
     Parameters
     ----------
@@ -913,6 +971,15 @@ def check_figure(fig, overlap_px: float = 0.0) -> list[str]:
             dy = min(box_a.y1, box_b.y1) - max(box_a.y0, box_b.y0)
             if dx > overlap_px and dy > overlap_px:
                 problems.append(f"texts {a.get_text()!r} and {b.get_text()!r} overlap")
+    per_axes = [_particle_centres(ax) for ax in fig.axes if ax.get_visible()]
+    particles = np.concatenate(per_axes) if per_axes else np.empty((0, 2))
+    for t, box in boxes:
+        if t.get_gid() == OVER_PARTICLES or not len(particles):
+            continue
+        covered = ((particles[:, 0] > box.x0) & (particles[:, 0] < box.x1)
+                   & (particles[:, 1] > box.y0) & (particles[:, 1] < box.y1))
+        if covered.any():
+            problems.append(f"text {t.get_text()!r} covers {int(covered.sum())} drawn particles")
     for ax in fig.axes:
         if ax.get_visible() and not (ax.has_data() or ax.images or ax.texts or ax.get_legend()):
             problems.append(f"an empty axes at {tuple(round(v, 2) for v in ax.get_position().bounds)}")

@@ -70,6 +70,37 @@ def test_checker_finds_text_off_the_page():
     assert any("leaves the page" in p for p in plotting.check_figure(fig))
 
 
+def _snapshot(note_at):
+    """A drawn row of ten hexagons (particle centres at x = 0..9, y = 0) and a note at ``note_at``
+    (data coordinates)."""
+    from pyfrustrate import topology
+
+    fig = plotting.figure(plotting.COLUMN_WIDTH_CM, 4.0)
+    ax = fig.add_axes([0.05, 0.05, 0.9, 0.9])
+    angles = np.pi / 6 + np.arange(6) * np.pi / 3
+    hexagon = np.column_stack([np.cos(angles), np.sin(angles)]) / np.sqrt(3)
+    centres = topology.site_positions(np.column_stack([np.arange(10), np.zeros(10, int)]))
+    plotting.draw_hexagons(ax, centres[:, None, :] + hexagon[None])
+    ax.set_xlim(-1, 10)
+    ax.set_ylim(-3, 3)
+    ax.axis("off")
+    note = ax.text(*note_at, "a note", ha="center", va="center", fontsize=7)
+    return fig, note
+
+
+def test_checker_finds_text_over_drawn_particles():
+    fig, _ = _snapshot((4.5, 0.0))
+    assert any("'a note' covers" in p and "drawn particles" in p for p in plotting.check_figure(fig))
+
+
+def test_checker_passes_text_beside_drawn_particles_or_over_them_on_purpose():
+    fig, _ = _snapshot((4.5, -2.2))
+    assert plotting.check_figure(fig) == []
+    fig, note = _snapshot((4.5, 0.0))
+    note.set_gid(plotting.OVER_PARTICLES)
+    assert plotting.check_figure(fig) == []
+
+
 def test_checker_finds_an_empty_axes():
     fig, _ = _figure()
     fig.add_axes([0.6, 0.6, 0.2, 0.2])
@@ -110,10 +141,10 @@ def _run(script: str, rule: str, tmp_path: Path, inputs: _Named, outputs: _Named
     runpy.run_path(str(ROOT / script), init_globals={"snakemake": job}, run_name="__snakemake__")
 
 
-def _drawn(tmp_path, name, script, inputs):
+def _drawn(tmp_path, name, script, inputs, params=None):
     """Draw ``script`` on ``inputs``; return the findings stored in its PNG and its page size (cm)."""
     png, pdf = tmp_path / f"{name}.png", tmp_path / f"{name}.pdf"
-    _run(script, name, tmp_path, inputs, _Named(pdf=str(pdf), png=str(png)))
+    _run(script, name, tmp_path, inputs, _Named(pdf=str(pdf), png=str(png)), params)
     return _stored_check(png)
 
 
@@ -150,6 +181,50 @@ def test_figS4_drawn_from_scratch(tmp_path):
     problems, size_cm = _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", _Named())
     assert problems == []
     _assert_print_size(size_cm)
+
+
+def _gallery():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("figure_gallery", ROOT / "docs" / "_ext" / "figure_gallery.py")
+    gallery = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(gallery)
+    return gallery
+
+
+def test_gallery_fills_captions_from_the_profile_that_made_the_figure():
+    """The gallery renders a caption's values from config/config.yaml with config/PROFILE.yaml over
+    it, as Snakemake's report does from its run's configuration, and leaves out the paragraph
+    naming the profile (the gallery states it from the PNG)."""
+    import yaml
+
+    gallery = _gallery()
+    caption = (ROOT / "workflow" / "report" / "fig3_phase_diagrams.rst").read_text()
+    quick = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["montecarlo"]["sweeps"]
+    paper = yaml.safe_load((ROOT / "config" / "paper.yaml").read_text())["montecarlo"]["sweeps"]
+    assert quick != paper
+    for profile, sweeps in ((None, quick), ("quick", quick), ("paper", paper)):
+        text = gallery.rendered_caption(caption, ROOT, profile)
+        assert "{{" not in text and "{%" not in text and "Made by the" not in text
+        assert f"simulated anneal of {sweeps} sweeps" in text, profile
+    # The quick profile's paragraph on unequilibrated runs is there for the quick profile only.
+    assert "not equilibrated" in gallery.rendered_caption(caption, ROOT, "quick")
+    assert "not equilibrated" not in gallery.rendered_caption(caption, ROOT, "paper")
+
+
+@pytest.mark.parametrize("profile", ["quick", "paper"])
+def test_figure_records_the_profile_the_gallery_shows(tmp_path, profile):
+    """A figure rule passes the configuration's profile as a param; the figure's provenance
+    records it, and the documentation's gallery reads it back from the PNG."""
+    from pyfrustrate.io import read_provenance
+
+    _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", _Named(), dict(profile=profile))
+    record = read_provenance(tmp_path / "figS4_pseudo_moduli.png")
+    assert record["parameters"]["profile"] == profile
+    assert record["rule"] == "figS4_pseudo_moduli"
+    shown = _gallery().profile_of(tmp_path / "figS4_pseudo_moduli.png")
+    other = {"quick": "paper", "paper": "quick"}[profile]
+    assert f"**{profile}** profile" in shown and other not in shown
 
 
 def test_continuum_diagram_drawn_from_scratch(tmp_path):

@@ -82,6 +82,7 @@ rule fig3_phase_diagrams:
         snapshots=mc_snapshot_files(),
         finite=fig3_finite_files(),
     params:
+        profile=config["profile"],  # recorded in the figure's provenance
         # (particles, box) of the dense runs (the disk scan), to mark them apart from the sparse ones.
         dense=(MC["dense_n"], MC["dense_box"]),
         # Anneal length of each box kind, written on its snapshots.
@@ -107,6 +108,7 @@ rule figX_fig3b_supplement_convention:
         snapshots=mc_snapshot_files("supplement"),
         finite=fig3_finite_files(),
     params:
+        profile=config["profile"],  # recorded in the figure's provenance
         dense=(MC["dense_n"], MC["dense_box"]),
         sweeps=dict(sparse=MC["sweeps"], dense=MC["dense_sweeps"]),
         convention="supplement",
@@ -128,6 +130,8 @@ rule figS1_ansatz:
     output:
         pdf=f"{FIGURES}/figS1_ansatz.pdf",
         png=figure_png("figS1_ansatz"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -142,6 +146,8 @@ rule fig4a_catalogue:
     output:
         pdf=f"{FIGURES}/fig4a_catalogue.pdf",
         png=figure_png("fig4a_catalogue"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -156,6 +162,11 @@ rule fig4b_sizes:
     output:
         pdf=f"{FIGURES}/fig4b_sizes.pdf",
         png=figure_png("fig4b_sizes"),
+        # The collapse in words (the caption's generated part; the gallery shows it with the caption).
+        summary=report(f"{FIGURES}/fig4b_sizes_summary.json", caption="../report/fig4b_sizes_summary.rst",
+                       category="Main text"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:

@@ -24,6 +24,8 @@ rule fig_speed_accuracy:
     output:
         pdf=f"{FIGURES}/figX_speed_accuracy.pdf",
         png=figure_png("figX_speed_accuracy"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:

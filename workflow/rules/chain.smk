@@ -17,6 +17,8 @@ rule fig1_chain:
     output:
         pdf=f"{FIGURES}/fig1_chain.pdf",
         png=figure_png("fig1_chain"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:

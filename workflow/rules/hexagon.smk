@@ -17,6 +17,8 @@ rule fig2_hexagon:
     output:
         pdf=f"{FIGURES}/fig2_hexagon.pdf",
         png=figure_png("fig2_hexagon"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:

@@ -55,6 +55,11 @@ rule figX_mc_diagram:
     output:
         pdf=f"{FIGURES}/figX_mc_diagram.pdf",
         png=figure_png("figX_mc_diagram"),
+        # The runs in numbers (the caption's generated part; the gallery shows it under the caption).
+        summary=report(f"{FIGURES}/figX_mc_diagram_summary.json", caption="../report/figX_mc_diagram_summary.rst",
+                       category="Beyond the paper"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -107,6 +112,7 @@ rule figX_mc_scale:
         pdf=f"{FIGURES}/figX_mc_scale.pdf",
         png=figure_png("figX_mc_scale"),
     params:
+        profile=config["profile"],  # recorded in the figure's provenance
         points=mc_scale_points(),
     conda:
         "../envs/pyfrustrate.yaml"
@@ -123,6 +129,8 @@ rule figX_mc_finite_size:
     output:
         pdf=f"{FIGURES}/figX_mc_finite_size.pdf",
         png=figure_png("figX_mc_finite_size"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:

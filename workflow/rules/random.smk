@@ -76,6 +76,8 @@ rule fig5_random:
     output:
         pdf=f"{FIGURES}/fig5_random.pdf",
         png=figure_png("fig5_random"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -90,6 +92,8 @@ rule figS2_random_sizes:
     output:
         pdf=f"{FIGURES}/figS2_random_sizes.pdf",
         png=figure_png("figS2_random_sizes"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -105,6 +109,7 @@ rule fig6_random_diagrams:
         pdf=f"{FIGURES}/fig6_random_diagrams.pdf",
         png=figure_png("fig6_random_diagrams"),
     params:
+        profile=config["profile"],  # recorded in the figure's provenance
         ell_groups=RANDOM["ell_groups"],
     conda:
         "../envs/pyfrustrate.yaml"
@@ -122,6 +127,7 @@ rule figS3_random_histograms:
         pdf=f"{FIGURES}/figS3_random_histograms.pdf",
         png=figure_png("figS3_random_histograms"),
     params:
+        profile=config["profile"],  # recorded in the figure's provenance
         ell_groups=RANDOM["ell_groups"],
     conda:
         "../envs/pyfrustrate.yaml"
@@ -137,6 +143,8 @@ rule figS5_ell_eigen:
     output:
         pdf=f"{FIGURES}/figS5_ell_eigen.pdf",
         png=figure_png("figS5_ell_eigen"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -149,6 +157,8 @@ rule figS4_pseudo_moduli:
     output:
         pdf=f"{FIGURES}/figS4_pseudo_moduli.pdf",
         png=figure_png("figS4_pseudo_moduli"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:
@@ -184,6 +194,7 @@ rule figX_ell_definitions:
         pdf=f"{FIGURES}/figX_ell_definitions.pdf",
         png=figure_png("figX_ell_definitions"),
     params:
+        profile=config["profile"],  # recorded in the figure's provenance
         ell_groups=RANDOM["ell_groups"],
     conda:
         "../envs/pyfrustrate.yaml"

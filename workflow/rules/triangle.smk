@@ -108,6 +108,8 @@ rule figS6_triangle:
     output:
         pdf=f"{FIGURES}/figS6_triangle.pdf",
         png=figure_png("figS6_triangle"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:
