@@ -129,3 +129,94 @@ rule figX_mc_finite_size:
         "results/logs/figX_mc_finite_size.log",
     script:
         "../../figures/figX_mc_finite_size.py"
+
+
+# Beyond the paper (issue 33, item 1): single aggregates sampled at fixed size
+# (pyfrustrate.montecarlo.fixed_size). Per point (scan, nu, Gamma): the ansatz's optimum, the
+# sizes around it and the reshaping window's temperature; per size and seed one sample (a job of
+# one core); validation.json gathers them.
+VALIDATION = MC["validation"]
+VALIDATION_STEPS = {"fibre": "fibre_width_offsets", "disk": "disk_size_factors"}
+
+
+def validation_points():
+    """(scan, nu, Gamma) of the fixed-size validation: a fibre and a disk scan per Gamma."""
+    return [(scan, VALIDATION[f"{scan}_nu"], G) for scan in VALIDATION_STEPS for G in VALIDATION["Gamma"]]
+
+
+def validation_point_file(scan, nu, Gamma):
+    return f"results/montecarlo/validation/{scan}_nu{float(nu):g}_G{float(Gamma):g}/point.json"
+
+
+def validation_sample_files():
+    return [validation_point_file(scan, nu, G).replace("point.json", f"size{k}_seed{seed}.json")
+            for scan, nu, G in validation_points() for k in range(len(VALIDATION[VALIDATION_STEPS[scan]]))
+            for seed in VALIDATION["seeds"]]
+
+
+rule montecarlo_validation_point:
+    output:
+        "results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/point.json",
+    params:
+        scan=lambda w: w.scan,
+        nu=lambda w: float(w.nu),
+        Gamma=lambda w: float(w.Gamma),
+        steps=lambda w: VALIDATION[VALIDATION_STEPS[w.scan]],
+        seed=VALIDATION["seeds"][0],
+        **pick(MC, "ell", "eps", "tol", "method"),
+        **pick(VALIDATION, "fibre_length", "disk_margin", "ansatz_max_width", "ansatz_max_radius",
+               "window_temperatures", "window_sweeps", "window_max_excess", "window_min_acceptance",
+               "bonded_moves", "surface_moves"),
+    threads: 1
+    wildcard_constraints:
+        scan="fibre|disk",
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/montecarlo/validation_{scan}_nu{nu}_G{Gamma}.log",
+    script:
+        "../scripts/montecarlo_validation_point.py"
+
+
+rule montecarlo_validation_sample:
+    input:
+        point="results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/point.json",
+    output:
+        "results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/size{index}_seed{seed}.json",
+    params:
+        index=lambda w: int(w.index),
+        seed=lambda w: int(w.seed),
+        **pick(MC, "tol", "method"),
+        **pick(VALIDATION, "fibre_length", "disk_margin", "hold_sweeps", "cool_sweeps", "quench_sweeps",
+               "bonded_moves", "surface_moves"),
+    threads: 1
+    wildcard_constraints:
+        scan="fibre|disk",
+        index=r"\d+",
+        seed=r"\d+",
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/montecarlo/validation_{scan}_nu{nu}_G{Gamma}_size{index}_seed{seed}.log",
+    script:
+        "../scripts/montecarlo_validation_sample.py"
+
+
+rule montecarlo_validation:
+    input:
+        points=[validation_point_file(*point) for point in validation_points()],
+        samples=validation_sample_files(),
+    output:
+        "results/montecarlo/validation.json",
+    params:
+        seeds=VALIDATION["seeds"],
+        fibre_length=VALIDATION["fibre_length"],
+        estimate_particles=VALIDATION["estimate_particles"],
+        # The profile's whole scale, recorded in the file.
+        scale=dict(VALIDATION, ell=MC["ell"], eps=MC["eps"], tol=MC["tol"], method=MC["method"]),
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/montecarlo/validation.log",
+    script:
+        "../scripts/montecarlo_validation.py"
