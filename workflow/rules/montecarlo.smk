@@ -163,8 +163,8 @@ rule montecarlo_validation_point:
         Gamma=lambda w: float(w.Gamma),
         steps=lambda w: VALIDATION[VALIDATION_STEPS[w.scan]],
         seed=VALIDATION["seeds"][0],
-        **pick(MC, "ell", "eps", "tol", "method"),
-        **pick(VALIDATION, "fibre_length", "disk_margin", "ansatz_max_width", "ansatz_max_radius",
+        **pick(MC, "ell", "eps"),
+        **pick(VALIDATION, "method", "tol", "fibre_length", "disk_margin", "ansatz_max_width", "ansatz_max_radius",
                "window_temperatures", "window_sweeps", "window_max_excess", "window_min_acceptance",
                "bonded_moves", "surface_moves"),
     threads: 1
@@ -186,8 +186,7 @@ rule montecarlo_validation_sample:
     params:
         index=lambda w: int(w.index),
         seed=lambda w: int(w.seed),
-        **pick(MC, "tol", "method"),
-        **pick(VALIDATION, "fibre_length", "disk_margin", "hold_sweeps", "cool_sweeps", "quench_sweeps",
+        **pick(VALIDATION, "method", "tol", "fibre_length", "disk_margin", "hold_sweeps", "cool_sweeps", "quench_sweeps",
                "bonded_moves", "surface_moves"),
     threads: 1
     wildcard_constraints:
@@ -212,8 +211,9 @@ rule montecarlo_validation:
         seeds=VALIDATION["seeds"],
         fibre_length=VALIDATION["fibre_length"],
         estimate_particles=VALIDATION["estimate_particles"],
-        # The profile's whole scale, recorded in the file.
-        scale=dict(VALIDATION, ell=MC["ell"], eps=MC["eps"], tol=MC["tol"], method=MC["method"]),
+        # The profile's whole scale, recorded in the file (keys sorted: the same params whatever
+        # the order of the configuration file).
+        scale=dict(sorted(dict(VALIDATION, ell=MC["ell"], eps=MC["eps"]).items())),
     conda:
         "../envs/pyfrustrate.yaml"
     log:
