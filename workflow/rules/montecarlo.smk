@@ -135,25 +135,6 @@ rule figX_mc_finite_size:
 # (pyfrustrate.montecarlo.fixed_size). Per point (scan, nu, Gamma): the ansatz's optimum, the
 # sizes around it and the reshaping window's temperature; per size and seed one sample (a job of
 # one core); validation.json gathers them.
-VALIDATION = MC["validation"]
-VALIDATION_STEPS = {"fibre": "fibre_width_offsets", "disk": "disk_size_factors"}
-
-
-def validation_points():
-    """(scan, nu, Gamma) of the fixed-size validation: a fibre and a disk scan per Gamma."""
-    return [(scan, VALIDATION[f"{scan}_nu"], G) for scan in VALIDATION_STEPS for G in VALIDATION["Gamma"]]
-
-
-def validation_point_file(scan, nu, Gamma):
-    return f"results/montecarlo/validation/{scan}_nu{float(nu):g}_G{float(Gamma):g}/point.json"
-
-
-def validation_sample_files():
-    return [validation_point_file(scan, nu, G).replace("point.json", f"size{k}_seed{seed}.json")
-            for scan, nu, G in validation_points() for k in range(len(VALIDATION[VALIDATION_STEPS[scan]]))
-            for seed in VALIDATION["seeds"]]
-
-
 rule montecarlo_validation_point:
     output:
         "results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/point.json",
