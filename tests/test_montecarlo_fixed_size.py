@@ -116,6 +116,19 @@ def test_size_of_lowest_energy_finds_a_known_minimum():
         (10.0, False)
 
 
+def test_fitted_optimum_averages_noise_over_the_scan():
+    # A parabola with its vertex between grid points, plus noise that moves the lowest sample.
+    sizes = np.arange(9, 22)
+    exact = 2e-4 * (sizes - 15.4) ** 2
+    assert fs.fitted_optimum(sizes, exact) == pytest.approx(15.4, abs=1e-9)
+    rng = np.random.default_rng(3)
+    noisy = exact + rng.normal(0, 2e-4, sizes.size)
+    assert abs(fs.fitted_optimum(sizes, noisy) - 15.4) < 1
+    assert np.isnan(fs.fitted_optimum([1, 2, 3], [0.0, 1.0, 0.0]))  # a maximum, no minimum
+    with pytest.raises(ValueError, match="distinct"):
+        fs.fitted_optimum([1, 1, 2], [0.0, 1.0, 2.0])
+
+
 @pytest.mark.parametrize("sizes, energies, message", [
     ([1, 2], [0.0, 1.0], "at least three"),
     ([1, 2, 3], [0.0, 1.0], "one length"),

@@ -50,7 +50,7 @@ from .options import MonteCarloOptions, check_particle
 
 __all__ = ["SCANS", "fibre_seed", "disk_seed", "disk_box", "fixed_size_options", "seeded_state",
            "heating_ladder", "reshaping_temperature", "sample_schedule", "sample", "FixedSizeSample",
-           "size_of_lowest_energy", "best_straight_fibre", "best_disk", "continuum_optima"]
+           "size_of_lowest_energy", "fitted_optimum", "best_straight_fibre", "best_disk", "continuum_optima"]
 
 #: The two kinds of fixed-size samples.
 SCANS = ("fibre", "disk")
@@ -535,7 +535,8 @@ def size_of_lowest_energy(sizes, energy_per_particle) -> tuple[float, bool]:
     sizes = np.asarray(sizes, float)
     e = np.asarray(energy_per_particle, float)
     if sizes.ndim != 1 or e.shape != sizes.shape:
-        raise ValueError(f"sizes and energy_per_particle must be 1D of one length, got shapes {sizes.shape} and {e.shape}")
+        raise ValueError(f"sizes and energy_per_particle must be 1D of one length, got shapes {sizes.shape} and "
+                         f"{e.shape}")
     if sizes.size < 3:
         raise ValueError(f"sizes: at least three are needed to bracket a minimum, got {sizes.size}")
     if not (np.all(np.isfinite(sizes)) and np.all(np.isfinite(e))):
@@ -545,6 +546,42 @@ def size_of_lowest_energy(sizes, energy_per_particle) -> tuple[float, bool]:
     order = np.argsort(sizes, kind="stable")
     k = int(np.argmin(e[order]))
     return float(sizes[order][k]), 0 < k < sizes.size - 1
+
+
+def fitted_optimum(sizes, energy_per_particle) -> float:
+    """The vertex of the least-squares parabola through ``e(size)``: an optimum that averages the
+    samples' noise over the whole scan, where ``size_of_lowest_energy`` takes one sample's word.
+
+    Near its optimum ``e`` is flat (a row or a hexagon shell is worth a fraction of a bond in a
+    whole sample), so one outline defect more in one sample moves the lowest sample; a fit over
+    ``W* +- 6`` or ``n*/2 .. 2 n*`` uses the curvature the scan spans.
+
+    Parameters
+    ----------
+    sizes, energy_per_particle : array_like, shape (k,)
+        As for ``size_of_lowest_energy`` (k >= 3, distinct sizes, finite).
+
+    Returns
+    -------
+    float
+        The parabola's vertex; nan when it opens downwards or is flat (no minimum).
+
+    Raises
+    ------
+    ValueError
+        As ``size_of_lowest_energy``.
+
+    Examples
+    --------
+    >>> from pyfrustrate.montecarlo.fixed_size import fitted_optimum
+    >>> round(fitted_optimum([10, 12, 14, 16], [(w - 12.5) ** 2 for w in [10, 12, 14, 16]]), 6)
+    12.5
+    """
+    size_of_lowest_energy(sizes, energy_per_particle)  # the same checks
+    x = np.asarray(sizes, float)
+    centre, scale = x.mean(), np.ptp(x)  # conditioned: sizes of hundreds, energies of 1e-3
+    a, b, _ = np.polyfit((x - centre) / scale, np.asarray(energy_per_particle, float), 2)
+    return float(centre - scale * b / (2 * a)) if a > 0 else float("nan")
 
 
 def best_straight_fibre(particle, g: float, max_width: int = 35, tol: float = 1e-5) -> tuple[int, np.ndarray]:
@@ -588,7 +625,8 @@ def best_straight_fibre(particle, g: float, max_width: int = 35, tol: float = 1e
     return int(np.argmin(e)) + 1, e
 
 
-def best_disk(particle, g: float, max_radius: int = 25, tol: float = 1e-5, stop_after: int = 3) -> tuple[int, int, np.ndarray]:
+def best_disk(particle, g: float, max_radius: int = 25, tol: float = 1e-5,
+              stop_after: int = 3) -> tuple[int, int, np.ndarray]:
     """The ansatz's best single disk: the hexagon (``topology.disk(R)``) of lowest energy per particle.
 
     Disks are relaxed in order of radius up to ``max_radius``, stopping ``stop_after`` radii

@@ -43,6 +43,9 @@ with logging_to(snakemake.log[0]):  # noqa: F821
                       hold_temperature_over_g=point["hold_temperature_over_g"], window=point["window"],
                       bracketed=[b for _, b in optima])
         best = [int(size) for size, _ in optima]
+        # The vertex of a parabola through each seed's e(size) (None where it has no minimum).
+        fitted = [fixed_size.fitted_optimum(sizes, e) for e in per_seed["energy_per_particle"]]
+        fitted = [None if np.isnan(f) else f for f in fitted]
         if point["scan"] == "fibre":
             W = point["W_ansatz"]
             fibre = np.array(point["fibre_energy_per_particle"])
@@ -54,7 +57,8 @@ with logging_to(snakemake.log[0]):  # noqa: F821
             # must resolve to tell W* from its neighbours, in bonds.
             row = min(fibre[W - 2], fibre[W]) - fibre[W - 1] if W >= 2 else fibre[W] - fibre[W - 1]
             record.update(W_mc=best, W_ansatz=W, W_continuum=point["continuum"]["W_rows"],
-                          W_mc_spread=max(best) - min(best), within_one_row=[abs(b - W) <= 1 for b in best],
+                          W_mc_spread=max(best) - min(best), W_mc_fitted=fitted,
+                          within_one_row=[abs(b - W) <= 1 for b in best],
                           excess_over_straight_fibre_bonds=excess.tolist(),
                           row_resolution_bonds=float(p.fibre_length * W * row / g), fibre_length=p.fibre_length)
         else:
@@ -64,7 +68,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
             neighbours = [disk[R - 2]] if R >= 2 else []
             neighbours += [disk[R]] if R < len(disk) else []
             record.update(n_mc=best, n_ansatz=n_star, R_ansatz=R, n_continuum=point["continuum"]["n_disk"],
-                          n_mc_spread=max(best) - min(best),
+                          n_mc_spread=max(best) - min(best), n_mc_fitted=fitted,
                           within_15_percent=[abs(b - n_star) <= 0.15 * n_star for b in best],
                           hexagon_resolution_bonds=float(n_star * (min(neighbours) - disk[R - 1]) / g))
         records.append(record)

@@ -27,7 +27,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
           f"{s.bonds} bonds, {s.outside} outside the largest cluster (wrapping {s.wraps}), {s.moves} moves in "
           f"{s.seconds:.1f} s")
     save_json(snakemake.output[0], dict(  # noqa: F821
-        scan=point["scan"], nu=point["nu"], Gamma=point["Gamma"], size=size, seed=p.seed, n=s.n, box=box, energy=s.energy,
-        energy_per_particle=s.energy_per_particle, bonds=s.bonds, outside=s.outside, wraps=s.wraps,
+        scan=point["scan"], nu=point["nu"], Gamma=point["Gamma"], size=size, seed=p.seed, n=s.n, box=box,
+        energy=s.energy, energy_per_particle=s.energy_per_particle, bonds=s.bonds, outside=s.outside, wraps=s.wraps,
         seconds=s.seconds, moves=s.moves, schedule=schedule, counters=s.result.counters),
         provenance=for_job(snakemake))  # noqa: F821
