@@ -117,16 +117,28 @@ def test_size_of_lowest_energy_finds_a_known_minimum():
 
 
 def test_fitted_optimum_averages_noise_over_the_scan():
-    # A parabola with its vertex between grid points, plus noise that moves the lowest sample.
+    # A parabola in log(size) with its vertex between grid points, plus noise that moves the
+    # lowest sample.
     sizes = np.arange(9, 22)
-    exact = 2e-4 * (sizes - 15.4) ** 2
-    assert fs.fitted_optimum(sizes, exact) == pytest.approx(15.4, abs=1e-9)
+    exact = 0.05 * np.log(sizes / 15.4) ** 2
+    assert fs.fitted_optimum(sizes, exact) == pytest.approx(15.4, rel=1e-9)
     rng = np.random.default_rng(3)
-    noisy = exact + rng.normal(0, 2e-4, sizes.size)
-    assert abs(fs.fitted_optimum(sizes, noisy) - 15.4) < 1
+    lowest, fitted = [], []
+    for _ in range(50):
+        noisy = exact + rng.normal(0, 3e-4, sizes.size)
+        lowest.append(fs.size_of_lowest_energy(sizes, noisy)[0])
+        fitted.append(fs.fitted_optimum(sizes, noisy))
+    # The noise moves the lowest sample by rows, the fit far less.
+    assert np.mean(np.abs(np.array(fitted) - 15.4)) < 0.5 * np.mean(np.abs(np.array(lowest) - 15.4))
+    # The disk-like asymmetry e = 1/sqrt(n) + n / (2 n0^1.5) (minimum at n0 = 300): the fit in
+    # log n lands within 5 %.
+    n = np.array([150, 200, 250, 300, 375, 450, 600])
+    assert fs.fitted_optimum(n, 1 / np.sqrt(n) + n / (2 * 300**1.5)) == pytest.approx(300, rel=0.05)
     assert np.isnan(fs.fitted_optimum([1, 2, 3], [0.0, 1.0, 0.0]))  # a maximum, no minimum
     with pytest.raises(ValueError, match="distinct"):
         fs.fitted_optimum([1, 1, 2], [0.0, 1.0, 2.0])
+    with pytest.raises(ValueError, match="positive"):
+        fs.fitted_optimum([0, 1, 2], [0.0, 1.0, 2.0])
 
 
 @pytest.mark.parametrize("sizes, energies, message", [
