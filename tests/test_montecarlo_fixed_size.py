@@ -59,6 +59,19 @@ def test_disk_seed_is_one_compact_aggregate_with_the_most_bonds(n):
     assert box - max(np.ptp(i), np.ptp(j), np.ptp(i + j)) - 1 == 6
 
 
+@pytest.mark.parametrize("n", [14, 61, 331])
+def test_two_disks_seed_is_one_disk_against_two_halves_in_one_box(n):
+    one, two, box = fs.two_disks_seed(n, margin=3)
+    for sites in (one, two):
+        assert sites.shape == (n, 2) and len({tuple(s) for s in (sites % box).tolist()}) == n
+        assert sites.min() >= 0 and sites.max() < box
+    assert [(len(c), rank) for c, rank in clusters(one, box)] == [(n, 0)]
+    assert sorted(len(c) for c, rank in clusters(two, box) if rank == 0) == sorted([n // 2, n - n // 2])
+    # Each half is compact (the most bonds of its size) and the halves do not touch.
+    assert box_bonds(two, box) == topology.most_bonds(n // 2) + topology.most_bonds(n - n // 2)
+    assert box_bonds(one, box) == topology.most_bonds(n)
+
+
 def test_seeded_fibre_energy_is_the_relaxed_straight_fibre_and_stays_at_zero_temperature(fibre_particle, options):
     length, width = 8, 3
     g = binding(fibre_particle, Gamma=0.5)

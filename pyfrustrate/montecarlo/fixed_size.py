@@ -48,7 +48,7 @@ from .annealing import AnnealState, anneal
 from .driver import ChainState, new_chain
 from .options import MonteCarloOptions, check_particle
 
-__all__ = ["SCANS", "fibre_seed", "disk_seed", "disk_box", "fixed_size_options", "seeded_state",
+__all__ = ["SCANS", "fibre_seed", "disk_seed", "two_disks_seed", "disk_box", "fixed_size_options", "seeded_state",
            "heating_ladder", "reshaping_temperature", "sample_schedule", "sample", "FixedSizeSample",
            "size_of_lowest_energy", "fitted_optimum", "best_straight_fibre", "best_disk", "continuum_optima"]
 
@@ -123,6 +123,51 @@ def disk_seed(n: int, box: int) -> np.ndarray:
         raise ValueError(f"box must exceed the disk's span {span} by at least one empty row on each side, got "
                          f"box={box} for n={n} (disk_box(n) gives a box that fits)")
     return sites + box // 2
+
+
+def two_disks_seed(n: int, margin: int = 4) -> tuple[np.ndarray, np.ndarray, int]:
+    """One compact disk of ``n`` particles and, in the same box, two of ``n // 2`` and
+    ``n - n // 2`` side by side: the seeds of a two-sided check (one aggregate against two).
+
+    The box is two ``disk_box(n - n // 2, margin)`` side by side along ``a1`` (square), so the
+    two disks sit ``2 margin`` empty rows apart, and from their periodic images; the single disk
+    is centred in the same box.
+
+    Parameters
+    ----------
+    n : int
+        Particles, >= 2.
+    margin : int, optional
+        As for ``disk_box``.
+
+    Returns
+    -------
+    one : ndarray of int, shape (n, 2)
+        The single disk.
+    two : ndarray of int, shape (n, 2)
+        The two disks.
+    box : int
+        The box side.
+
+    Raises
+    ------
+    ValueError
+        Bad ``n`` or ``margin``.
+
+    Examples
+    --------
+    >>> from pyfrustrate.montecarlo.fixed_size import two_disks_seed
+    >>> one, two, box = two_disks_seed(14, margin=2)
+    >>> one.shape, two.shape, box
+    ((14, 2), (14, 2), 14)
+    """
+    n = integer("n", n, 2)
+    half = disk_box(n - n // 2, margin)
+    box = 2 * half
+    small = topology.stadium_sites(n // 2, 0.0, faceted=True)
+    large = topology.stadium_sites(n - n // 2, 0.0, faceted=True)
+    two = np.concatenate([small + (half // 2, box // 2), large + (half + half // 2, box // 2)])
+    return disk_seed(n, box), two, box
 
 
 def _span(sites) -> int:

@@ -164,3 +164,9 @@ def validation_sample_files():
     return [validation_point_file(scan, nu, G).replace("point.json", f"size{k}_seed{seed}.json")
             for scan, nu, G in validation_points() for k in range(len(VALIDATION[VALIDATION_STEPS[scan]]))
             for seed in VALIDATION["seeds"]]
+
+
+def validation_two_sided_files():
+    """The two-sided checks (one disk against two) at the disk points of two_sided_Gamma."""
+    return [validation_point_file("disk", VALIDATION["disk_nu"], G).replace("point.json", f"two_sided_seed{seed}.json")
+            for G in VALIDATION["two_sided_Gamma"] for seed in VALIDATION["seeds"]]

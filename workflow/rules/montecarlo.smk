@@ -182,10 +182,33 @@ rule montecarlo_validation_sample:
         "../scripts/montecarlo_validation_sample.py"
 
 
+# Issue 33, item 4 at the disk points: one disk of the ansatz's size against two of half of it.
+rule montecarlo_validation_two_sided:
+    input:
+        point="results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/point.json",
+    output:
+        "results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/two_sided_seed{seed}.json",
+    params:
+        seed=lambda w: int(w.seed),
+        **pick(VALIDATION, "method", "tol", "disk_margin", "hold_sweeps", "cool_sweeps", "quench_sweeps",
+               "bonded_moves", "surface_moves"),
+    threads: 1
+    wildcard_constraints:
+        scan="disk",
+        seed=r"\d+",
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/montecarlo/validation_{scan}_nu{nu}_G{Gamma}_two_sided_seed{seed}.log",
+    script:
+        "../scripts/montecarlo_validation_two_sided.py"
+
+
 rule montecarlo_validation:
     input:
         points=[validation_point_file(*point) for point in validation_points()],
         samples=validation_sample_files(),
+        two_sided=validation_two_sided_files(),
     output:
         "results/montecarlo/validation.json",
     params:

@@ -2,8 +2,9 @@
 validation, W*_MC (fibres) or n*_MC (disks) per seed from the quenched samples' energy per particle
 (montecarlo.fixed_size.size_of_lowest_energy) against the ansatz's best straight fibre or best
 hexagonal disk and the continuum's optimum; the profile's scale; the wall time per sample and a
-power law of the time per attempted move against the particles, to estimate larger samples.
-large_runs (item 3) and two_sided (item 4) are empty lists until those items are done."""
+power law of the time per attempted move against the particles, to estimate larger samples;
+the two-sided checks (item 4) at the disk points. large_runs (item 3) is an empty list until that
+item is done."""
 import json
 
 import numpy as np
@@ -45,7 +46,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
         best = [int(size) for size, _ in optima]
         # The vertex of a parabola through each seed's e(size) (None where it has no minimum).
         fitted = [fixed_size.fitted_optimum(sizes, e) for e in per_seed["energy_per_particle"]]
-        fitted = [None if np.isnan(f) else f for f in fitted]
+        fitted = [None if np.isnan(f) else round(f, 2) for f in fitted]
         if point["scan"] == "fibre":
             W = point["W_ansatz"]
             fibre = np.array(point["fibre_energy_per_particle"])
@@ -87,8 +88,27 @@ with logging_to(snakemake.log[0]):  # noqa: F821
                   seconds_per_move_exponent=float(exponent), seconds_per_move_prefactor=float(np.exp(log_prefactor)),
                   estimated_seconds_per_sweep=per_sweep,
                   note="one core per sample; the estimate extrapolates the fitted power law")
+    # Two-sided checks, one record per point: the predicted state persists (one aggregate) and
+    # the competitor, with the same seed, never ends below it.
+    checks = [load(path) for path in snakemake.input.two_sided]  # noqa: F821
+    two_sided = []
+    for key in sorted({(c["scan"], c["nu"], c["Gamma"]) for c in checks}):
+        runs = sorted((c for c in checks if (c["scan"], c["nu"], c["Gamma"]) == key), key=lambda c: c["seed"])
+        predicted = [c["predicted"]["energy_over_g"] for c in runs]
+        competitor = [c["competitor"]["energy_over_g"] for c in runs]
+        persists = [len(c["predicted"]["cluster_sizes"]) == 1 for c in runs]
+        not_below = [e_c >= e_p for e_c, e_p in zip(competitor, predicted)]
+        two_sided.append(dict(scan=key[0], nu=key[1], Gamma=key[2], n=runs[0]["n"], box=runs[0]["box"],
+                              predicted_state=runs[0]["predicted_state"], competitor_state=runs[0]["competitor_state"],
+                              seeds=[c["seed"] for c in runs], predicted_energy_over_g=predicted,
+                              competitor_energy_over_g=competitor,
+                              competitor_cluster_sizes=[c["competitor"]["cluster_sizes"] for c in runs],
+                              persists=persists, competitor_not_below=not_below,
+                              holds=all(persists) and all(not_below)))
+        print(f"two-sided {key}: predicted {predicted}, competitor {competitor} (E/g), holds {two_sided[-1]['holds']}")
     save_json(snakemake.output[0], dict(  # noqa: F821
-        points=records, scale=dict(p.scale), timing=timing, large_runs=[], two_sided=[],
-        pending="large_runs (issue 33 item 3) and two_sided (item 4) are not computed yet"),
+        points=records, scale=dict(p.scale), timing=timing, large_runs=[], two_sided=two_sided,
+        pending="large_runs (issue 33 item 3) is not computed yet; two_sided covers the disk points only "
+                "(one disk against two), not a fibre point or one near the fibre-disk line"),
         provenance=for_job(snakemake))  # noqa: F821
     print(f"{seconds.size} samples, {seconds.mean():.1f} s each on average (max {seconds.max():.1f} s)")
