@@ -94,8 +94,8 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     two_sided = []
     for key in sorted({(c["scan"], c["nu"], c["Gamma"]) for c in checks}):
         runs = sorted((c for c in checks if (c["scan"], c["nu"], c["Gamma"]) == key), key=lambda c: c["seed"])
-        predicted = [c["predicted"]["energy_over_g"] for c in runs]
-        competitor = [c["competitor"]["energy_over_g"] for c in runs]
+        predicted = [round(c["predicted"]["energy_over_g"], 3) for c in runs]
+        competitor = [round(c["competitor"]["energy_over_g"], 3) for c in runs]
         persists = [len(c["predicted"]["cluster_sizes"]) == 1 for c in runs]
         not_below = [e_c >= e_p for e_c, e_p in zip(competitor, predicted)]
         two_sided.append(dict(scan=key[0], nu=key[1], Gamma=key[2], n=runs[0]["n"], box=runs[0]["box"],
