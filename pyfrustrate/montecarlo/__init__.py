@@ -23,6 +23,7 @@ from .drawing import draw_snapshot
 from .driver import ChainState
 from .exchange import ReplicaExchangeResult, ReplicaState, geometric_temperatures, replica_exchange
 from .options import DEFAULTS_MEASURED, MonteCarloOptions, binding
+from . import fixed_size
 
 __all__ = ["anneal", "AnnealResult", "AnnealState", "read_checkpoint", "SCHEDULES", "DEFAULT_SWEEPS",
            "replica_exchange", "ReplicaExchangeResult", "ReplicaState", "geometric_temperatures",
