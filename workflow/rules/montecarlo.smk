@@ -224,3 +224,18 @@ rule montecarlo_validation:
         "results/logs/montecarlo/validation.log",
     script:
         "../scripts/montecarlo_validation.py"
+
+
+rule figX_mc_validation:
+    input:
+        validation=rules.montecarlo_validation.output,
+        points=[validation_point_file(*point) for point in validation_points()],
+    output:
+        pdf=f"{FIGURES}/figX_mc_validation.pdf",
+        png=figure_png("figX_mc_validation"),
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/figX_mc_validation.log",
+    script:
+        "../../figures/figX_mc_validation.py"
