@@ -438,8 +438,9 @@ def sample_schedule(hold_temperature: float, n: int, *, hold_sweeps: int, cool_s
         Particles (a sweep is ``n`` attempted moves).
     hold_sweeps, cool_sweeps, quench_sweeps : int, keyword only
         Sweeps held at ``hold_temperature``, spent cooling (in ``cool_stages`` equal stages at
-        ``hold_temperature * k / (cool_stages + 1)``, ``k = cool_stages .. 1``), and at ``T = 0``
-        (a descent: every move that lowers the energy is taken).
+        ``hold_temperature * k / (cool_stages + 1)``, ``k = cool_stages .. 1``; the remainder of
+        ``cool_sweeps / cool_stages`` is dropped), and at ``T = 0`` (a descent: every move that
+        lowers the energy is taken).
     cool_stages : int, keyword only
         Temperatures between the hold and 0.
 
