@@ -14,6 +14,7 @@ import numpy as np
 
 from pyfrustrate import plotting
 from pyfrustrate.io import logging_to
+from pyfrustrate.provenance import for_job
 
 SEED_MARKERS = ("o", "s", "^", "D", "v")
 
@@ -23,7 +24,7 @@ def load(path):
         return json.load(f)
 
 
-def main(validation_path, point_paths, outputs):
+def main(validation_path, point_paths, outputs, provenance=None):
     validation = load(validation_path)
     points = {(p["scan"], p["nu"], p["Gamma"]): p for p in map(load, point_paths)}
     width_cm, height_cm = plotting.PAGE_WIDTH_CM, 6.2
@@ -86,10 +87,10 @@ def main(validation_path, point_paths, outputs):
                  "two-sided check")
     for ax, letter in zip(axes, "abc"):
         plotting.panel_label(ax, letter)
-    plotting.save(fig, outputs)
+    plotting.save(fig, outputs, provenance)
 
 
 if "snakemake" in globals():
     with logging_to(snakemake.log[0]):  # noqa: F821
         main(snakemake.input.validation[0], snakemake.input.points,  # noqa: F821
-             [snakemake.output.pdf, snakemake.output.png])  # noqa: F821
+             [snakemake.output.pdf, snakemake.output.png], provenance=for_job(snakemake))  # noqa: F821

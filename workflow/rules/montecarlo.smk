@@ -233,6 +233,8 @@ rule figX_mc_validation:
     output:
         pdf=f"{FIGURES}/figX_mc_validation.pdf",
         png=figure_png("figX_mc_validation"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
     conda:
         "../envs/pyfrustrate.yaml"
     log:
