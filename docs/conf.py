@@ -87,6 +87,7 @@ measured_sources = {
     "results/benchmarks/relax.csv": "python benchmarks/bench_relax.py --csv results/benchmarks/relax.csv",
     "results/benchmarks/speed_accuracy.csv": "bash scripts/figures.sh results/benchmarks/speed_accuracy.csv (rule speed_accuracy: benchmarks/bench_tradeoff.py)",
     "results/ansatz/line_tension.json": "bash scripts/figures.sh results/ansatz/line_tension.json (rule ansatz_line_tension)",
+    "results/montecarlo/validation.json": "bash scripts/figures.sh results/montecarlo/validation.json (rule montecarlo_validation)",
 }
 
 html_theme = "pydata_sphinx_theme"

@@ -84,6 +84,10 @@ def _rerun_by_params(work: Path, configfile: Path) -> tuple[set[str], set[str]]:
         (["montecarlo"], "large_sweeps", ["results/montecarlo/runs/large_*"]),
         (["montecarlo"], "dense_sweeps", ["results/montecarlo/runs/dense_*"]),
         (["montecarlo"], "tol", ["results/montecarlo/runs/*"]),
+        # The fixed-size samples and two-sided checks, not their points (validation.json,
+        # downstream, reruns too).
+        (["montecarlo", "validation"], "hold_sweeps",
+         ["results/montecarlo/validation/*/size*", "results/montecarlo/validation/*/two_sided*"]),
         (["montecarlo"], "exchange_Gamma_min", ["results/montecarlo/runs/sparse_*"]),
         # The triangle's finite-size predictions (Fig. S6) use the same Gamma grid.
         (["montecarlo"], "finite_Gamma_count", ["results/montecarlo/finite/*", "results/triangle/finite/*"]),

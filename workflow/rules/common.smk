@@ -144,3 +144,29 @@ RANDOM_SETS = {"sizes": RANDOM["size_particles"]} | {f"group{i}": c for i, c in 
 
 def random_diagram_files(name):
     return [f"results/random/diagrams/{name}_{b}.npz" for b in range(-(-RANDOM_SETS[name] // RANDOM["diagram_batch"]))]
+
+
+# The fixed-size Monte Carlo validation (montecarlo.smk, issue 33 item 1).
+VALIDATION = MC["validation"]
+VALIDATION_STEPS = {"fibre": "fibre_width_offsets", "disk": "disk_size_factors"}
+
+
+def validation_points():
+    """(scan, nu, Gamma) of the fixed-size validation: a fibre and a disk scan per Gamma."""
+    return [(scan, VALIDATION[f"{scan}_nu"], G) for scan in VALIDATION_STEPS for G in VALIDATION["Gamma"]]
+
+
+def validation_point_file(scan, nu, Gamma):
+    return f"results/montecarlo/validation/{scan}_nu{float(nu):g}_G{float(Gamma):g}/point.json"
+
+
+def validation_sample_files():
+    return [validation_point_file(scan, nu, G).replace("point.json", f"size{k}_seed{seed}.json")
+            for scan, nu, G in validation_points() for k in range(len(VALIDATION[VALIDATION_STEPS[scan]]))
+            for seed in VALIDATION["seeds"]]
+
+
+def validation_two_sided_files():
+    """The two-sided checks (one disk against two) at the disk points of two_sided_Gamma."""
+    return [validation_point_file("disk", VALIDATION["disk_nu"], G).replace("point.json", f"two_sided_seed{seed}.json")
+            for G in VALIDATION["two_sided_Gamma"] for seed in VALIDATION["seeds"]]

@@ -137,3 +137,115 @@ rule figX_mc_finite_size:
         "results/logs/figX_mc_finite_size.log",
     script:
         "../../figures/figX_mc_finite_size.py"
+
+
+# Beyond the paper (issue 33, item 1): single aggregates sampled at fixed size
+# (pyfrustrate.montecarlo.fixed_size). Per point (scan, nu, Gamma): the ansatz's optimum, the
+# sizes around it and the reshaping window's temperature; per size and seed one sample (a job of
+# one core); validation.json gathers them.
+rule montecarlo_validation_point:
+    output:
+        "results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/point.json",
+    params:
+        scan=lambda w: w.scan,
+        nu=lambda w: float(w.nu),
+        Gamma=lambda w: float(w.Gamma),
+        steps=lambda w: VALIDATION[VALIDATION_STEPS[w.scan]],
+        seed=VALIDATION["seeds"][0],
+        **pick(MC, "ell", "eps"),
+        **pick(VALIDATION, "method", "tol", "fibre_length", "disk_margin", "ansatz_max_width", "ansatz_max_radius",
+               "window_temperatures", "window_sweeps", "window_max_excess", "window_min_acceptance",
+               "bonded_moves", "surface_moves"),
+    threads: 1
+    wildcard_constraints:
+        scan="fibre|disk",
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/montecarlo/validation_{scan}_nu{nu}_G{Gamma}.log",
+    script:
+        "../scripts/montecarlo_validation_point.py"
+
+
+rule montecarlo_validation_sample:
+    input:
+        point="results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/point.json",
+    output:
+        "results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/size{index}_seed{seed}.json",
+    params:
+        index=lambda w: int(w.index),
+        seed=lambda w: int(w.seed),
+        **pick(VALIDATION, "method", "tol", "fibre_length", "disk_margin", "hold_sweeps", "cool_sweeps", "quench_sweeps",
+               "bonded_moves", "surface_moves"),
+    threads: 1
+    wildcard_constraints:
+        scan="fibre|disk",
+        index=r"\d+",
+        seed=r"\d+",
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/montecarlo/validation_{scan}_nu{nu}_G{Gamma}_size{index}_seed{seed}.log",
+    script:
+        "../scripts/montecarlo_validation_sample.py"
+
+
+# Issue 33, item 4 at the disk points: one disk of the ansatz's size against two of half of it.
+rule montecarlo_validation_two_sided:
+    input:
+        point="results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/point.json",
+    output:
+        "results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/two_sided_seed{seed}.json",
+    params:
+        seed=lambda w: int(w.seed),
+        **pick(VALIDATION, "method", "tol", "disk_margin", "hold_sweeps", "cool_sweeps", "quench_sweeps",
+               "bonded_moves", "surface_moves"),
+    threads: 1
+    wildcard_constraints:
+        scan="disk",
+        seed=r"\d+",
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/montecarlo/validation_{scan}_nu{nu}_G{Gamma}_two_sided_seed{seed}.log",
+    script:
+        "../scripts/montecarlo_validation_two_sided.py"
+
+
+rule montecarlo_validation:
+    input:
+        points=[validation_point_file(*point) for point in validation_points()],
+        samples=validation_sample_files(),
+        two_sided=validation_two_sided_files(),
+    output:
+        "results/montecarlo/validation.json",
+    params:
+        seeds=VALIDATION["seeds"],
+        fibre_length=VALIDATION["fibre_length"],
+        estimate_particles=VALIDATION["estimate_particles"],
+        # The profile's whole scale, recorded in the file (keys sorted: the same params whatever
+        # the order of the configuration file).
+        scale=dict(sorted(dict(VALIDATION, ell=MC["ell"], eps=MC["eps"]).items())),
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/montecarlo/validation.log",
+    script:
+        "../scripts/montecarlo_validation.py"
+
+
+rule figX_mc_validation:
+    input:
+        validation=rules.montecarlo_validation.output,
+        points=[validation_point_file(*point) for point in validation_points()],
+    output:
+        pdf=f"{FIGURES}/figX_mc_validation.pdf",
+        png=figure_png("figX_mc_validation"),
+    params:
+        profile=config["profile"],  # recorded in the figure's provenance
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/figX_mc_validation.log",
+    script:
+        "../../figures/figX_mc_validation.py"
