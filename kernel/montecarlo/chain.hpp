@@ -737,9 +737,9 @@ inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<doub
     if (misfit > kWarmMisfit * model_.step_scale()) warm = false;
     // The unknown particle's own corners relaxed with every other corner held, as the parent
     // path does (parent_factor.hpp, relax_new_corners): the rigid fit leaves it strained, and
-    // Newton's first exact steps from there are damped or cut short; a dense problem of at most
-    // 2 C unknowns costs less than the full factorisations it saves (bench_mc_goals.py,
-    // factorizations_per_relaxation).
+    // Newton's first exact steps from there are damped or cut short. A dense problem of at most
+    // 2 C unknowns; it removes about one factorisation of the whole cluster per relaxation
+    // (bench_mc_goals.py, factorizations_per_relaxation against the baseline build).
     if (warm && unknown_particle >= 0 && !parent) {
         const Network<Model> net{model_, topology};
         relax_new_corners(net, start, {unknown_particle}, new_dof, 1e-3 * options_.relax.minimize.gradient_tolerance);
