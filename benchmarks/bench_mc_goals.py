@@ -117,6 +117,7 @@ def main(argv=None):
                     "parent_min_particles": args.parent_min_particles if start == "parent" else "", "n": n, "box": box,
                     "nu": nu, "Gamma": Gamma, "sweeps": sweeps, "cpu_s": cpu, "cpu_s_per_1e4_sweeps": per,
                     "scaled": sweeps != 10_000, "goal_s": goal, "over_goal": per / goal,
+                    "attempted": c["attempted"], "screened": c["screened"], "accepted": c["accepted"],
                     "relaxations": c["minimisations"], "bounded": c.get("bounded", 0),
                     "factorizations_per_relaxation": c["factorizations"] / m,
                     "evaluations_per_relaxation": c["evaluations"] / m,
