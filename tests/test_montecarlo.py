@@ -221,10 +221,12 @@ def test_second_stage_bound_does_not_change_the_chain(particle, g, moves, delaye
     ones contain whole, already fails the second stage's test is rejected without relaxing
     (``bounded``). The chain that re-minimises every cluster of the box on every move
     (``incremental=False``: no bound, no cache) takes the same moves, with the same energies,
-    so every move the bound rejected its relaxation would have rejected too."""
+    so every move the bound rejected its relaxation would have rejected too. A deliberately
+    wrong bound (the clusters a particle left counted whole, as if removing a particle could not
+    lower their energy) made every case here fail (checked on a build with that rule)."""
     def run(**kw):
         mc = kernel_mc(particle, g, 6, 14, 11, "newton", delayed_acceptance=delayed, **moves, **kw)
-        out = mc.run(np.linspace(g, 0.1 * g, 12), np.full(12, 40))
+        out = mc.run(np.linspace(g, 0.1 * g, 12), np.full(12, 150))
         return mc, out
 
     fast, fast_out = run()
