@@ -100,11 +100,12 @@ CholeskyAnalysis::CholeskyAnalysis(int n, const std::vector<int>& column_start, 
         L = cholmod_analyze(A, c);
     }
     if (!L || c->status < CHOLMOD_OK) {
+        const int status = c->status;  // read before c is freed
         cholmod_free_sparse(&A, c);
         cholmod_finish(c);
         delete c;
         throw std::runtime_error("sparse Cholesky: CHOLMOD's symbolic analysis failed (status " +
-                                 std::to_string(c->status) + ")");
+                                 std::to_string(status) + ")");
     }
     symbolic_ = L;
     if (!own_ldl || L->is_super) return;

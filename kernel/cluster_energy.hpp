@@ -39,6 +39,11 @@ class ClusterEnergyCache {
         map_.emplace(key, e);
         return e;
     }
+    // The cached energy of `key` without counting a hit or a miss; nullptr if it is not cached.
+    const double* peek(const ShapeKey& key) const {
+        const auto it = map_.find(key);
+        return it == map_.end() ? nullptr : &it->second;
+    }
     std::size_t size() const { return map_.size(); }
     void clear() { map_.clear(); entries_ = 0; }
 

@@ -126,7 +126,9 @@ MinimizeResult relax_by_policy(const Model& model, const Topology& topology, con
                     r = chord_relax(model, child, std::move(start), request.minimize, out.parent);
                     counters.evaluations += r.iterations;
                     counters.factorizations += r.factorizations;
-                    done = !r.handed_over;
+                    // Exact only where the full gradient criterion holds: a chord run stopped
+                    // short (round-off floor, evaluation cap) is redone below.
+                    done = !r.handed_over && r.converged;
                     if (done) {
                         out.parent.from_parent = true;
                         ++counters.parent_factor;

@@ -214,6 +214,30 @@ def test_cache_and_incremental_do_not_change_the_chain(particle, g, moves):
     assert np.allclose(out["energy"], ref_out["energy"], rtol=0, atol=1e-12)
 
 
+@pytest.mark.parametrize("delayed", [True, False])
+@pytest.mark.parametrize("moves", [{}, dict(cluster_moves=0.3, cluster_link=0.5), dict(surface_moves=0.5)])
+def test_second_stage_bound_does_not_change_the_chain(particle, g, moves, delayed):
+    """A move whose energy change, bounded below by the energies of the old clusters the new
+    ones contain whole, already fails the second stage's test is rejected without relaxing
+    (``bounded``). The chain that re-minimises every cluster of the box on every move
+    (``incremental=False``: no bound, no cache) takes the same moves, with the same energies,
+    so every move the bound rejected its relaxation would have rejected too. A deliberately
+    wrong bound (the clusters a particle left counted whole, as if removing a particle could not
+    lower their energy) made every case here fail (checked on a build with that rule)."""
+    def run(**kw):
+        mc = kernel_mc(particle, g, 6, 14, 11, "newton", delayed_acceptance=delayed, **moves, **kw)
+        out = mc.run(np.linspace(g, 0.1 * g, 12), np.full(12, 150))
+        return mc, out
+
+    fast, fast_out = run()
+    naive, naive_out = run(incremental=False, cache=False)
+    assert fast.counters["bounded"] > 0
+    assert naive.counters["bounded"] == 0
+    assert np.array_equal(naive.particles, fast.particles)
+    assert fast.counters["accepted"] == naive.counters["accepted"]
+    assert np.allclose(naive_out["energy"], fast_out["energy"], rtol=0, atol=1e-9)
+
+
 def test_wrapped_clusters_are_periodic_aggregates(particle, g):
     """A row around the box is a straight fibre; a box full but for one site is a bulk cell
     with a hole, as pyfrustrate.topology builds them."""

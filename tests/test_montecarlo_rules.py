@@ -64,6 +64,20 @@ def test_kernel_samples_the_boltzmann_weights_where_each_factor_matters(name, de
     assert len(np.unique(np.round(E / g, 9))) >= 5
 
 
+@pytest.mark.parametrize("delayed", [True, False])
+def test_kernel_with_minimised_energies_samples_the_boltzmann_weights(delayed):
+    """With Newton energies, second-stage rejections are decided by a lower bound on the energy
+    change before relaxing (counter ``bounded``); in the case where the deformation term weighs,
+    the chain still samples the exact weights (of the same Newton energies, enumerated)."""
+    particle, g, _, _ = case("double_deformation")
+    c = CASES["double_deformation"]
+    states, E = enumerate_states(kernel_mc(particle, g, c["box"], c["n"], 0, "newton", tol=1e-7), c["box"], c["n"])
+    mc = kernel_mc(particle, g, c["box"], c["n"], 21, "newton", tol=1e-7, delayed_acceptance=delayed)
+    statistics = compare_with_boltzmann(mc, states, E, T_OVER_G * g, g, SAMPLES)
+    assert passes(statistics), statistics
+    assert mc.counters["bounded"] > 0
+
+
 def reference_statistics(name, wrong):
     particle, g, states, E = case(name)
     c = CASES[name]

@@ -122,6 +122,7 @@ def test_warm_chain_samples_the_boltzmann_weights(delayed, moves):
     _, tv_levels, z = compare_with_boltzmann(mc, states, E, T_, g, samples=100_000)
     assert len(np.unique(np.round(E / g, 9))) >= 5 and mc.counters["warm_starts"] > 0
     assert mc.counters["cluster_rebonded"] > (5000 if moves else -1)
+    assert mc.counters["bounded"] > 0  # second-stage rejections decided by the lower bound
     assert z < 5 and tv_levels < 0.02
 
 

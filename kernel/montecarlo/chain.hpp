@@ -112,8 +112,17 @@ private:
     // the clusters through the arrived sites and the pieces next to the vacated ones, relaxed
     // into fresh_energy_); without incremental, the whole box. Once accepted,
     // adopt_fresh_clusters labels fresh_ and stores its displacements in place of old_ids_'.
-    void relax_changed_clusters(const int* arrived, std::size_t n_arrived, const int* vacated, std::size_t n_vacated,
-                                double& old_deformation, double& new_deformation);
+    // In two parts: find_fresh_clusters (the search, the shape keys, the energies the cache
+    // already holds; old_deformation) and relax_fresh_clusters (the others, new_deformation).
+    void find_fresh_clusters(const int* arrived, std::size_t n_arrived, const int* vacated, std::size_t n_vacated,
+                             double& old_deformation);
+    void relax_fresh_clusters(double& new_deformation);
+    // A lower bound on the deformation after the move, before relaxing anything: a cluster's
+    // relaxed energy is at least the sum of those of any partition of its particles into groups
+    // (each group's particles, taken alone, can only relax further: the energy is a sum over
+    // particles of non-negative terms), so a fresh cluster's is at least the sum of the old
+    // clusters it contains whole (those no particle left); a cached shape gives its energy.
+    double fresh_deformation_lower_bound() const;
     void adopt_fresh_clusters();
     // Delayed acceptance of a move that changes the bonds by bond_change, log_hastings being the
     // log ratio of its reverse to its forward proposal probability. First stage: the surrogate
@@ -122,16 +131,23 @@ private:
     // dE - dE_s when delayed, else plain Metropolis-Hastings. Each draws one deviate (the first
     // only with delayed acceptance on), whatever the energies.
     bool passes_first_stage(int bond_change, double log_hastings, double T, double& surrogate);
-    bool passes_second_stage(double delta, double surrogate, double log_hastings, double T);
+    // The second stage's deviate u is drawn before the relaxation (which draws none), so that a
+    // lower bound on delta can decide a rejection without relaxing (second_stage_argument).
+    bool passes_second_stage(double delta, double surrogate, double log_hastings, double T, double u) const;
+    double second_stage_argument(double delta, double surrogate, double log_hastings, double T) const;
     double shape_energy(const ShapeKey& key, const Cluster& cluster);  // from the key's representative
     double raw_energy(const Cluster& cluster);                        // from the sites as found
     double cluster_energy(const Cluster& cluster);                    // through the cache
+    double cluster_energy(const Cluster& cluster, const ShapeKey& key);
+    ShapeKey shape_key_of(const Cluster& cluster) const {
+        return cluster.rank() ? wrapped_shape_key(cluster, box_.L) : finite_shape_key(tiling(), symmetries_, cluster.unwrapped);
+    }
     // Relaxed energy of a fresh cluster of a move through the cache, warm-started from the
     // stored displacements of its particles (parent_start); `displacement` receives the relaxed
     // corner displacements per member and slot (empty if not relaxed here).
     // parent_factor: `factor` receives the cluster relaxed and factorised for its children (null
     // if not relaxed here or too small).
-    double fresh_cluster_energy(const Cluster& cluster, std::vector<double>& displacement,
+    double fresh_cluster_energy(const Cluster& cluster, const ShapeKey& key, std::vector<double>& displacement,
                                 std::shared_ptr<RelaxedCluster>& factor);
     double warm_energy(const Cluster& cluster, std::vector<double>& displacement, std::shared_ptr<RelaxedCluster>& factor);
     // parent_factor: the stored cluster most of `cluster`'s members belong to, if it differs from
@@ -176,6 +192,8 @@ private:
     ClusterWorkspace ws_, ws_canonical_;
     std::vector<Cluster> fresh_;         // clusters after the move under test
     std::vector<double> fresh_energy_;
+    std::vector<ShapeKey> fresh_key_;       // empty for an isolated particle (energy 0)
+    std::vector<double> fresh_cached_;      // the cache's energy of each fresh cluster, NaN if not held
     std::vector<std::vector<double>> fresh_displacement_;
     std::vector<std::shared_ptr<RelaxedCluster>> fresh_factor_;
     std::vector<int> old_ids_;
@@ -389,6 +407,7 @@ inline bool MonteCarlo<Model>::attempt(Move& move, typename Move::Counters& own,
         return false;
     }
     double old_deformation = 0.0, new_deformation = 0.0;
+    const double u = uniform01();  // the second stage's deviate
     try {
         if (options_.incremental) {
             // The clusters before the move: those of the sites left, and those of the particles
@@ -404,12 +423,30 @@ inline bool MonteCarlo<Model>::attempt(Move& move, typename Move::Counters& own,
                     if (occupant_[v] >= 0 && std::find(p.to.begin(), p.to.end(), v) == p.to.end()) add(label_[v]);
                 }
         }
-        relax_changed_clusters(p.to.data(), p.to.size(), p.from.data(), p.from.size(), old_deformation, new_deformation);
+        if (!options_.incremental) {
+            old_deformation = deformation_;
+            new_deformation = scratch_deformation(true, false, false);
+        } else {
+            find_fresh_clusters(p.to.data(), p.to.size(), p.from.data(), p.from.size(), old_deformation);
+            // The second stage's test is monotone in the energy change: if even the lower bound
+            // on it fails, so does the relaxed one, and the move is rejected without relaxing.
+            // Minimised energies only: the linear method's is the energy of the linear response,
+            // not a minimum, and no sum of them bounds another.
+            if (options_.relax.method != RelaxMethod::Linear) {
+                const double lowest = -g_ * p.bond_change + (fresh_deformation_lower_bound() - old_deformation);
+                if (!metropolis(second_stage_argument(lowest, surrogate, p.log_hastings, T), T, u)) {
+                    ++counters.bounded;
+                    undo_move();
+                    return false;
+                }
+            }
+            relax_fresh_clusters(new_deformation);
+        }
     } catch (...) {
         undo_move();
         throw;
     }
-    if (!passes_second_stage(-g_ * p.bond_change + (new_deformation - old_deformation), surrogate, p.log_hastings, T)) {
+    if (!passes_second_stage(-g_ * p.bond_change + (new_deformation - old_deformation), surrogate, p.log_hastings, T, u)) {
         undo_move();
         return false;
     }
@@ -552,20 +589,22 @@ inline double MonteCarlo<Model>::raw_energy(const Cluster& cl) {
 template <class Model>
 inline double MonteCarlo<Model>::cluster_energy(const Cluster& cl) {
     if (cl.rank() == 0 && cl.size() == 1) return 0.0;  // an isolated particle takes its rest shape
-    const ShapeKey key =
-        cl.rank() ? wrapped_shape_key(cl, box_.L) : finite_shape_key(tiling(), symmetries_, cl.unwrapped);
+    return cluster_energy(cl, shape_key_of(cl));
+}
+
+template <class Model>
+inline double MonteCarlo<Model>::cluster_energy(const Cluster& cl, const ShapeKey& key) {
     if (!options_.cache) return shape_energy(key, cl);
     return cache_.get(key, [&] { return shape_energy(key, cl); }, counters.cache);
 }
 
 template <class Model>
-inline double MonteCarlo<Model>::fresh_cluster_energy(const Cluster& cl, std::vector<double>& displacement,
+inline double MonteCarlo<Model>::fresh_cluster_energy(const Cluster& cl, const ShapeKey& key, std::vector<double>& displacement,
                                                       std::shared_ptr<RelaxedCluster>& factor) {
     displacement.clear();
     factor.reset();
-    if (!options_.parent_start || cl.rank() != 0) return cluster_energy(cl);
-    if (cl.size() == 1) return 0.0;
-    const ShapeKey key = finite_shape_key(tiling(), symmetries_, cl.unwrapped);
+    if (cl.rank() == 0 && cl.size() == 1) return 0.0;  // an isolated particle takes its rest shape
+    if (!options_.parent_start || cl.rank() != 0) return cluster_energy(cl, key);
     if (!options_.cache) return warm_energy(cl, displacement, factor);
     return cache_.get(key, [&] { return warm_energy(cl, displacement, factor); }, counters.cache);
 }
@@ -646,12 +685,15 @@ inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<doub
         }
     }
     bool warm = known > 0 && np - known <= 1;
+    int unknown_particle = -1;
+    std::vector<int> new_dof;  // of the corners only the unknown particle holds
     double misfit = 0;  // largest distance of a known corner of an unknown particle from the rigid fit
     if (warm) {
         for (int c = 0; c < nc; ++c)
             if (count[c] > 1) start.segment<2>(2 * c) /= count[c];
         for (int p = 0; p < np; ++p) {
             if (site_known_[cl.members[p]]) continue;
+            unknown_particle = p;
             // The rigid motion of its reference corners that best fits its known corners
             // (least squares; the translation alone if only one is known).
             Vec2 r_mean = Vec2::Zero(), x_mean = Vec2::Zero();
@@ -686,12 +728,22 @@ inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<doub
                 if (count[c] != 0) continue;
                 start.segment<2>(2 * c) = x_mean + rotation * (topology.reference[c] - r_mean) - topology.reference[c];
                 count[c] = 1;
+                new_dof.push_back(2 * c), new_dof.push_back(2 * c + 1);
             }
         }
     }
     // A new particle that bridges corners the parents left far from a rigid fit starts under a
     // large strain, from which Newton takes more steps than from the linear solution.
     if (misfit > kWarmMisfit * model_.step_scale()) warm = false;
+    // The unknown particle's own corners relaxed with every other corner held, as the parent
+    // path does (parent_factor.hpp, relax_new_corners): the rigid fit leaves it strained, and
+    // Newton's first exact steps from there are damped or cut short. A dense problem of at most
+    // 2 C unknowns; it removes about one factorisation of the whole cluster per relaxation
+    // (bench_mc_goals.py, factorizations_per_relaxation against the baseline build).
+    if (warm && unknown_particle >= 0 && !parent) {
+        const Network<Model> net{model_, topology};
+        relax_new_corners(net, start, {unknown_particle}, new_dof, 1e-3 * options_.relax.minimize.gradient_tolerance);
+    }
     Vector u;
     std::shared_ptr<RelaxedCluster> own;
     const double e = relaxed_cluster_energy(model_, topology, options_.relax, counters.relax, warm ? &start : nullptr, &u,
@@ -762,14 +814,9 @@ inline double MonteCarlo<Model>::scratch_deformation(bool canonical, bool cached
 }
 
 template <class Model>
-inline void MonteCarlo<Model>::relax_changed_clusters(const int* arrived, std::size_t n_arrived, const int* vacated,
-                                                      std::size_t n_vacated, double& old_deformation, double& new_deformation) {
-    old_deformation = new_deformation = 0.0;
-    if (!options_.incremental) {
-        old_deformation = deformation_;
-        new_deformation = scratch_deformation(true, false, false);
-        return;
-    }
+inline void MonteCarlo<Model>::find_fresh_clusters(const int* arrived, std::size_t n_arrived, const int* vacated,
+                                                   std::size_t n_vacated, double& old_deformation) {
+    old_deformation = 0.0;
     for (const int id : old_ids_) old_deformation += cluster_deformation_[id];
     fresh_.clear();
     ws_.new_round();
@@ -780,11 +827,64 @@ inline void MonteCarlo<Model>::relax_changed_clusters(const int* arrived, std::s
             const int u = box_.next(vacated[k], d);
             if (occupant_[u] >= 0 && !ws_.seen(u)) fresh_.push_back(find_cluster(box_, occupant_, u, ws_));
         }
+    fresh_key_.resize(fresh_.size());
+    fresh_cached_.assign(fresh_.size(), std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t k = 0; k < fresh_.size(); ++k) {
+        const Cluster& cl = fresh_[k];
+        if (cl.rank() == 0 && cl.size() == 1) {
+            fresh_key_[k].clear();
+            fresh_cached_[k] = 0.0;
+            continue;
+        }
+        fresh_key_[k] = shape_key_of(cl);
+        if (!options_.cache) continue;
+        if (const double* e = cache_.peek(fresh_key_[k])) fresh_cached_[k] = *e;
+    }
+}
+
+template <class Model>
+inline double MonteCarlo<Model>::fresh_deformation_lower_bound() const {
+    const Proposal& p = proposal_;
+    const auto moved_here = [&](int s) { return std::find(p.to.begin(), p.to.end(), s) != p.to.end(); };
+    // Old clusters a particle left: their remains are no longer whole, and bound nothing.
+    std::vector<int> whole;
+    for (const int id : old_ids_) {
+        bool left = false;
+        for (const int s : p.from) left = left || label_[s] == id;
+        if (!left) whole.push_back(id);
+    }
+    double lower = 0.0;
+    std::vector<char> counted(whole.size(), 0);
+    for (std::size_t k = 0; k < fresh_.size(); ++k) {
+        if (!std::isnan(fresh_cached_[k])) {
+            lower += fresh_cached_[k];
+            continue;
+        }
+        for (const int m : fresh_[k].members) {
+            if (moved_here(m)) continue;  // its label is the site's old one, not this particle's
+            const auto it = std::find(whole.begin(), whole.end(), label_[m]);
+            if (it == whole.end() || counted[it - whole.begin()]) continue;
+            counted[it - whole.begin()] = 1;
+            lower += cluster_deformation_[*it];
+        }
+    }
+    return lower;
+}
+
+template <class Model>
+inline void MonteCarlo<Model>::relax_fresh_clusters(double& new_deformation) {
+    new_deformation = 0.0;
     fresh_energy_.clear();
     fresh_displacement_.resize(std::max(fresh_displacement_.size(), fresh_.size()));
     fresh_factor_.assign(fresh_.size(), nullptr);  // a rejected move's factors go with the next move
     for (std::size_t k = 0; k < fresh_.size(); ++k) {
-        fresh_energy_.push_back(fresh_cluster_energy(fresh_[k], fresh_displacement_[k], fresh_factor_[k]));
+        if (!fresh_key_[k].empty() && !std::isnan(fresh_cached_[k])) {
+            ++counters.cache.hits;  // found by find_fresh_clusters
+            fresh_displacement_[k].clear();
+            fresh_energy_.push_back(fresh_cached_[k]);
+        } else {
+            fresh_energy_.push_back(fresh_cluster_energy(fresh_[k], fresh_key_[k], fresh_displacement_[k], fresh_factor_[k]));
+        }
         new_deformation += fresh_energy_.back();
     }
 }
@@ -827,10 +927,17 @@ inline bool MonteCarlo<Model>::passes_first_stage(int bond_change, double log_ha
 }
 
 template <class Model>
-inline bool MonteCarlo<Model>::passes_second_stage(double delta, double surrogate, double log_hastings, double T) {
+inline double MonteCarlo<Model>::second_stage_argument(double delta, double surrogate, double log_hastings,
+                                                       double T) const {
     // Delayed: the proposal ratio was taken in the first stage.
     const bool delayed = options_.delayed_acceptance && T > 0;
-    return metropolis(delayed ? delta - surrogate : delta - T * log_hastings, T, uniform01());
+    return delayed ? delta - surrogate : delta - T * log_hastings;
+}
+
+template <class Model>
+inline bool MonteCarlo<Model>::passes_second_stage(double delta, double surrogate, double log_hastings, double T,
+                                                   double u) const {
+    return metropolis(second_stage_argument(delta, surrogate, log_hastings, T), T, u);
 }
 
 }  // namespace pyfrustrate

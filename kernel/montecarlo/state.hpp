@@ -21,12 +21,13 @@ namespace pyfrustrate {
 struct ChainCounters {
     std::int64_t attempted = 0, accepted = 0;
     std::int64_t screened = 0;  // rejected by the surrogate, without relaxing anything
+    std::int64_t bounded = 0;   // rejected at the second stage by a lower bound, without relaxing (chain.hpp)
     CacheCounters cache;
     RelaxCounters relax;
 
     template <class F>
     void for_each(F&& f) {
-        f("attempted", attempted), f("accepted", accepted), f("screened", screened);
+        f("attempted", attempted), f("accepted", accepted), f("screened", screened), f("bounded", bounded);
         f("cache_hits", cache.hits), f("cache_misses", cache.misses), f("cache_clears", cache.clears);
         f("minimisations", relax.minimisations), f("evaluations", relax.evaluations), f("fallbacks", relax.fallbacks);
         f("unconverged", relax.unconverged), f("factorizations", relax.factorizations);

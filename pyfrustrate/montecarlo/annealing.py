@@ -152,7 +152,8 @@ class AnnealResult(BoxState):
     acceptance : float
         Overall acceptance rate.
     counters : dict
-        Kernel counters: ``attempted, accepted, screened`` (identical on resumption) and ``cache_hits,
+        Kernel counters: ``attempted, accepted, screened`` (identical on resumption) and ``bounded``
+        (rejected at the second stage by a lower bound, without relaxing), ``cache_hits,
         cache_misses, cache_clears, minimisations, evaluations, fallbacks, unconverged`` (these
         depend on the cache, which a checkpoint does not save).
     seed : int
