@@ -122,8 +122,10 @@ def write_csv(path, rows, parameters=None):
     from pyfrustrate.io import atomic_path, provenance_line
     from pyfrustrate.provenance import describe
 
+    # Described before the temporary file exists: inside the repository it would mark the tree dirty.
+    header = provenance_line(describe(parameters))
     with atomic_path(path) as tmp, open(tmp, "w", newline="") as fh:
-        fh.write(provenance_line(describe(parameters)))
+        fh.write(header)
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
