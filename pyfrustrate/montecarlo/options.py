@@ -13,12 +13,12 @@ particle's spring units, by keyword, exactly one of them.
 """
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 from .. import _checks, _kernel, continuum
 from .._checks import non_negative
-from ..relaxation import AUTO_METHOD, METHODS
+from ..relaxation import AUTO_METHOD
 from ..topology import tiling_facts
 
 __all__ = ["MonteCarloOptions", "binding", "chain_options", "check_particle", "DEFAULTS_MEASURED",
@@ -114,10 +114,14 @@ _PYTHON_TYPES = {"flag": bool, "real": float, "integer": int, "method": str}
 class MonteCarloOptions:
     # The docstring and the fields are the kernel table's (below the class): nothing here repeats
     # a name, a default or a range.
+    if TYPE_CHECKING:  # made at import from the table: a type checker sees keywords and attributes
+        def __init__(self, **fields: Any) -> None: ...
+
+        def __getattr__(self, name: str) -> Any: ...
 
     def __post_init__(self):
         # The one check, the kernel's: a bad value raises ValueError naming its field and range.
-        checked = _kernel.check_monte_carlo_options(**dataclasses.asdict(self))
+        checked = _kernel.check_monte_carlo_options(**self._values())
         for field in _RUN_FIELDS:  # frozen: the checked values replace the given ones once
             object.__setattr__(self, field["name"], checked[field["name"]])
 
@@ -146,7 +150,11 @@ class MonteCarloOptions:
         TypeError
             A keyword that is no field.
         """
-        return dataclasses.replace(self, **changes)
+        return type(self)(**{**self._values(), **changes})
+
+    def _values(self) -> dict:
+        """Every field by name, in the table's order."""
+        return {field["name"]: getattr(self, field["name"]) for field in _RUN_FIELDS}
 
     def signature(self) -> dict:
         """What a checkpoint records of these options.
@@ -157,7 +165,7 @@ class MonteCarloOptions:
             Every field that changes the chain (not ``cache``, which changes only its speed),
             ``method`` resolved.
         """
-        d = dataclasses.asdict(self)
+        d = self._values()
         d.pop("cache")
         d["method"] = self.resolved_method
         return d
@@ -182,7 +190,7 @@ class MonteCarloOptions:
         method = self.resolved_method
         tiling = tiling_facts(particle.tiling)
         parent_start = self.warm_start and method == "newton"
-        return dict(dataclasses.asdict(self), method=method, force_scale=float(particle.force_scale),
+        return dict(self._values(), method=method, force_scale=float(particle.force_scale),
                     bond_deformation=float(particle.bulk_energy_per_particle) / tiling["bulk_bonds_per_particle"],
                     parent_start=parent_start, parent_factor=self.parent_factor and parent_start)
 
@@ -221,7 +229,7 @@ MonteCarloOptions.__doc__ = f"""How a Monte Carlo chain moves and relaxes (the `
 MonteCarloOptions.__annotations__ = {f["name"]: _PYTHON_TYPES[f["kind"]] for f in _RUN_FIELDS}
 for _field in _RUN_FIELDS:
     setattr(MonteCarloOptions, _field["name"], _field["default"])
-MonteCarloOptions = dataclass(frozen=True)(MonteCarloOptions)
+dataclass(frozen=True)(MonteCarloOptions)  # in place: the class keeps its name for type checkers
 
 
 def chain_options(options, fields: dict) -> MonteCarloOptions:
@@ -246,7 +254,7 @@ def chain_options(options, fields: dict) -> MonteCarloOptions:
     ValueError
         A field out of range.
     """
-    names = {f.name for f in dataclasses.fields(MonteCarloOptions)}
+    names = {field["name"] for field in _RUN_FIELDS}
     unknown = sorted(set(fields) - names)
     if unknown:
         raise TypeError(f"unexpected keyword argument(s) {', '.join(map(repr, unknown))}; the chain's options are "
