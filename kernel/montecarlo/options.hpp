@@ -134,7 +134,8 @@ void for_each_option(Options& o, F&& f) {
       o.surface_moves);
     f(flag("cache", S::Run, "cache relaxed cluster energies by canonical shape (speed only)"), o.cache);
     f(flag("parent_factor", S::Run,
-           "with parent_start: a cluster a move changes by a few particles relaxes on its parent's modified factor"),
+           "with parent_start (MonteCarloOptions: Newton with warm_start): a cluster a move changes by a few particles "
+           "relaxes on its parent's modified factor"),
       o.parent_factor);
     f(integer("parent_factor_min_particles", S::Run, 0, kIntMax,
               "the smallest relaxed cluster that keeps its factor for its children"),

@@ -230,6 +230,7 @@ MonteCarloOptions.__annotations__ = {f["name"]: _PYTHON_TYPES[f["kind"]] for f i
 for _field in _RUN_FIELDS:
     setattr(MonteCarloOptions, _field["name"], _field["default"])
 dataclass(frozen=True)(MonteCarloOptions)  # in place: the class keeps its name for type checkers
+del _field
 
 
 def chain_options(options, fields: dict) -> MonteCarloOptions:
