@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -31,6 +32,21 @@ FORMER_SWEEPS = 10_000
 DEFAULT_CSV = Path(__file__).resolve().parent / "results" / "anneal_defaults.csv"
 
 
+def _run(args, fields, sweeps):
+    """One anneal from ``fields`` over the defaults: (energy, g, largest cluster, CPU seconds, sweeps)."""
+    pf = import_pyfrustrate()
+    from pyfrustrate import Hexagon
+    from pyfrustrate.montecarlo import annealing
+
+    particle = Hexagon.from_continuum(args.ell, args.nu, args.eps)
+    steps = None if sweeps is None else sweeps * args.n
+    cpu = time.process_time()
+    r = pf.anneal(particle, Gamma=args.Gamma, box=args.box, n=args.n, seed=args.seed, steps=steps, progress=False,
+                  **fields)
+    cpu = time.process_time() - cpu
+    return r.energy, r.g, max(len(c) for c in r.clusters()), cpu, (steps or annealing.DEFAULT_SWEEPS * args.n) // args.n
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="100 particles in 30 x 30, 1000 sweeps (a smoke run)")
@@ -38,45 +54,39 @@ def main(argv=None):
     ap.set_defaults(box=60)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--no-baseline", action="store_true", help="skip the run with the former defaults")
+    ap.add_argument("--jobs", type=int, default=2, help="runs side by side (processes)")
     ap.add_argument("--csv", type=Path, default=DEFAULT_CSV)
     args = ap.parse_args(argv)
-    pf = import_pyfrustrate()
+    import_pyfrustrate()
     from pyfrustrate import Hexagon, ansatz
-    from pyfrustrate.montecarlo import MonteCarloOptions, annealing
+    from pyfrustrate.montecarlo import MonteCarloOptions, annealing, binding
 
-    sweeps = {"today": None, "former": FORMER_SWEEPS}
+    sweeps = {"package defaults": None, "former defaults": FORMER_SWEEPS}
     if args.quick:
         args.n, args.box = 100, 30
-        sweeps = {"today": 1000, "former": 1000}
+        sweeps = {"package defaults": 1000, "former defaults": 1000}
+    settings = {"package defaults": {}} if args.no_baseline else {"package defaults": {}, "former defaults": FORMER_DEFAULTS}
     particle = Hexagon.from_continuum(args.ell, args.nu, args.eps)
-    runs = [("package defaults", {}, sweeps["today"])]
-    if not args.no_baseline:
-        runs.append(("former defaults", FORMER_DEFAULTS, sweeps["former"]))
     print(f"{machine_line()}\n{source_line()}")
-    defaults = MonteCarloOptions()
     print(f"{args.n} particles in {args.box} x {args.box}, ell = {args.ell:g}, eps = {args.eps:g}, nu = {args.nu:g}, "
-          f"Gamma = {args.Gamma:g}, seed {args.seed}; today's defaults: {defaults}, "
+          f"Gamma = {args.Gamma:g}, seed {args.seed}; package defaults: {MonteCarloOptions()}, "
           f"{annealing.DEFAULT_SWEEPS} sweeps")
-    results = []
-    for label, fields, n_sweeps in runs:
-        steps = None if n_sweeps is None else n_sweeps * args.n
-        cpu = time.process_time()
-        r = pf.anneal(particle, Gamma=args.Gamma, box=args.box, n=args.n, seed=args.seed, steps=steps,
-                      progress=False, **fields)
-        results.append((label, r, time.process_time() - cpu, (steps or annealing.DEFAULT_SWEEPS * args.n) // args.n))
     # The prediction to beat, relaxed as the runs relax their clusters (Newton, tol 1e-3).
-    shapes = ansatz.finite_aggregates(particle, args.n, method="newton", tol=1e-3)
-    g = results[0][1].g
-    best_single = float((shapes.energy - g * shapes.bonds).min())
+    g = binding(particle, Gamma=args.Gamma)
+    best_single = float(ansatz.finite_aggregates(particle, args.n, method="newton", tol=1e-3).best_energy(g))
     e_bulk = particle.bulk_energy_per_particle
-    base_cpu = results[-1][2]
+    with ProcessPoolExecutor(max_workers=args.jobs) as pool:
+        futures = {label: pool.submit(_run, args, fields, sweeps[label]) for label, fields in settings.items()}
+        results = {label: f.result() for label, f in futures.items()}
+    base_cpu = results[list(settings)[-1]][3]
     rows = []
-    for label, r, cpu, n_sweeps in results:
+    for label, (energy, run_g, largest, cpu, n_sweeps) in results.items():
+        assert run_g == g, (run_g, g)
         rows.append(dict(setting=label, n=args.n, box=args.box, nu=args.nu, Gamma=args.Gamma, seed=args.seed,
-                         sweeps=n_sweeps, energy=f"{r.energy:.6g}", best_single_aggregate=f"{best_single:.6g}",
-                         gap_bulk_energies=f"{(r.energy - best_single) / e_bulk:.1f}", cpu_s=f"{cpu:.0f}",
-                         cpu_ratio_to_former=f"{cpu / base_cpu:.2f}", largest_cluster=max(len(c) for c in r.clusters())))
-    print(table([tuple(row.values()) for row in rows], list(rows[0])))
+                         sweeps=n_sweeps, energy=f"{energy:.6g}", best_single_aggregate=f"{best_single:.6g}",
+                         gap_bulk_energies=f"{(energy - best_single) / e_bulk:.1f}", cpu_s=f"{cpu:.0f}",
+                         cpu_ratio_to_former=f"{cpu / base_cpu:.2f}", largest_cluster=largest))
+    print(table([tuple(str(v) for v in row.values()) for row in rows], list(rows[0])))
     if not args.quick:
         write_csv(args.csv, rows, parameters=dict(n=args.n, box=args.box, ell=args.ell, eps=args.eps, nu=args.nu,
                                                   Gamma=args.Gamma, seed=args.seed))
