@@ -76,7 +76,8 @@ MODES = {
 
 def make(particle, g, seed, method, delayed, cache, warm, incremental):
     return _kernel.MonteCarlo(particle._kernel_model, g, BOX, N, seed, method=method,
-                              tol=1e-5 * particle.force_scale, cache=cache, warm_start=warm,
+                              tol=1e-5, force_scale=particle.force_scale, cache=cache, warm_start=warm,
+                              cluster_moves=0.0, bonded_moves=0.0, surface_moves=0.0,
                               incremental=incremental, delayed_acceptance=delayed,
                               bond_deformation=particle.bulk_energy_per_particle / 3)
 

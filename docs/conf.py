@@ -88,6 +88,11 @@ measured_sources = {
     "results/benchmarks/speed_accuracy.csv": "bash scripts/figures.sh results/benchmarks/speed_accuracy.csv (rule speed_accuracy: benchmarks/bench_tradeoff.py)",
     "results/ansatz/line_tension.json": "bash scripts/figures.sh results/ansatz/line_tension.json (rule ansatz_line_tension)",
     "results/montecarlo/validation.json": "bash scripts/figures.sh results/montecarlo/validation.json (rule montecarlo_validation)",
+    "benchmarks/results/anneal_defaults.csv": "python benchmarks/bench_anneal_defaults.py",
+    "benchmarks/results/mc_rules_quick_before.csv":
+        "bash scripts/mc_rule_benchmarks.sh 4e30625 quick benchmarks/results/mc_rules_quick_before.csv",
+    "benchmarks/results/mc_rules_quick_after.csv":
+        "bash scripts/mc_rule_benchmarks.sh HEAD quick benchmarks/results/mc_rules_quick_after.csv",
 }
 
 html_theme = "pydata_sphinx_theme"

@@ -20,6 +20,14 @@ namespace py = pybind11;
 using namespace pyfrustrate;
 
 void export_montecarlo_common(py::module_& m) {
+    m.def("monte_carlo_option_fields", &option_fields,
+          "The Monte Carlo options' table (kernel/montecarlo/options.hpp), one dict per field in order: name, kind "
+          "('flag', 'real', 'integer', 'method'), scope ('run': a run's options, pyfrustrate's MonteCarloOptions; "
+          "'particle': set from the particle; 'benchmark': baselines), default, range (as errors say it), doc.");
+    m.def(
+        "check_monte_carlo_options", [](const py::kwargs& options) { return options_dict(options_from_keywords(options)); },
+        "Every option, the given keywords read and checked against the table (ValueError naming a field out of its "
+        "range, TypeError a keyword that is no field), the others at their defaults: the one check of the options.");
     m.def(
         "box_clusters",
         [](const std::string& tiling_name, int L, const SiteArray& sites) {

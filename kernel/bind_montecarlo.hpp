@@ -10,6 +10,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <type_traits>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -48,6 +49,119 @@ inline pybind11::dict counters_dict(ChainState& s) {
     return d;
 }
 
+// The options' table (montecarlo/options.hpp) seen from Python: a value given for a field is
+// read and checked against that field (ValueError naming it, its range and the value), a value
+// read back is the Python object of its member.
+inline std::string python_repr(pybind11::handle value) { return pybind11::repr(value).cast<std::string>(); }
+
+inline void read_option(const OptionField& f, bool& member, pybind11::handle value) {
+    if (!pybind11::isinstance<pybind11::bool_>(value)) refuse_option(f, python_repr(value));
+    member = value.cast<bool>();
+}
+
+inline void read_option(const OptionField& f, double& member, pybind11::handle value) {
+    if (pybind11::isinstance<pybind11::bool_>(value) || !PyNumber_Check(value.ptr())) refuse_option(f, python_repr(value));
+    double x = 0;
+    try {
+        x = value.cast<double>();
+    } catch (const pybind11::cast_error&) {
+        refuse_option(f, python_repr(value));
+    }
+    if (!in_range(f, x)) refuse_option(f, python_repr(value));
+    member = x;
+}
+
+template <class Int, std::enable_if_t<std::is_integral_v<Int> && !std::is_same_v<Int, bool>, int> = 0>
+void read_option(const OptionField& f, Int& member, pybind11::handle value) {
+    // An integer (Python's or numpy's, not a bool, not a float however round), within range.
+    if (pybind11::isinstance<pybind11::bool_>(value) || !PyIndex_Check(value.ptr())) refuse_option(f, python_repr(value));
+    const auto x = pybind11::reinterpret_steal<pybind11::int_>(PyNumber_Index(value.ptr()));
+    const long double v = PyLong_AsDouble(x.ptr());
+    if (PyErr_Occurred()) PyErr_Clear();
+    if (!(v >= f.lo && v <= f.hi)) refuse_option(f, python_repr(value));
+    member = static_cast<Int>(x.cast<long long>());
+}
+
+inline void read_option(const OptionField& f, RelaxMethod& member, pybind11::handle value) {
+    if (!pybind11::isinstance<pybind11::str>(value)) refuse_option(f, python_repr(value));
+    member = method_named(f, value.cast<std::string>());
+}
+
+inline pybind11::object option_value(bool v) { return pybind11::bool_(v); }
+inline pybind11::object option_value(double v) { return pybind11::float_(v); }
+inline pybind11::object option_value(int v) { return pybind11::int_(v); }
+inline pybind11::object option_value(std::size_t v) { return pybind11::int_(v); }
+inline pybind11::object option_value(RelaxMethod v) { return pybind11::str(method_name(v)); }
+
+inline const char* scope_name(OptionScope s) {
+    return s == OptionScope::Run ? "run" : s == OptionScope::Particle ? "particle" : "benchmark";
+}
+
+// Options from keywords: each one a field of the table, checked; the others their defaults.
+// A keyword that is no field raises TypeError naming it.
+inline MonteCarloOptions options_from_keywords(const pybind11::dict& keywords) {
+    MonteCarloOptions o;
+    std::size_t read = 0;
+    std::string names;
+    for_each_option(o, [&](const OptionField& f, auto& member) {
+        names += std::string(names.empty() ? "" : ", ") + f.name;
+        if (!keywords.contains(f.name)) return;
+        read_option(f, member, keywords[f.name]);
+        ++read;
+    });
+    if (read != keywords.size())
+        for (const auto& item : keywords) {
+            bool known = false;
+            for_each_option(o, [&](const OptionField& f, auto&) { known = known || item.first.cast<std::string>() == f.name; });
+            if (!known)
+                throw pybind11::type_error("unexpected keyword argument " + python_repr(item.first) +
+                                           "; the chain's options are " + names);
+        }
+    return o;
+}
+
+// Every field of `o` by name.
+inline pybind11::dict options_dict(const MonteCarloOptions& o) {
+    pybind11::dict d;
+    for_each_option(o, [&](const OptionField& f, const auto& member) { d[f.name] = option_value(member); });
+    return d;
+}
+
+// The table: one dict per field (name, kind, scope, default, range, doc), in its order.
+inline pybind11::list option_fields() {
+    pybind11::list fields;
+    const MonteCarloOptions defaults;
+    for_each_option(defaults, [&](const OptionField& f, const auto& member) {
+        static const char* kinds[] = {"flag", "real", "integer", "method"};
+        pybind11::dict d;
+        d["name"] = f.name;
+        d["kind"] = kinds[static_cast<int>(f.kind)];
+        d["scope"] = scope_name(f.scope);
+        d["default"] = option_value(member);
+        d["range"] = range_text(f);
+        d["doc"] = f.doc;
+        fields.append(d);
+    });
+    return fields;
+}
+
+// The constructor's documentation, its keywords listed from the table.
+inline const char* constructor_doc() {
+    static const std::string doc = [] {
+        std::string s =
+            "Random initial placement drawn from the seeded std::mt19937_64, or the given state (a MonteCarloState of "
+            "this box). The options are keywords, each a field of the kernel's table (monte_carlo_option_fields()), "
+            "checked there (ValueError naming the field; TypeError for a keyword that is no field):";
+        const MonteCarloOptions defaults;
+        for_each_option(defaults, [&](const OptionField& f, const auto& member) {
+            s += "\n\n" + std::string(f.name) + " (" + range_text(f) + ", default " +
+                 python_repr(option_value(member)) + "): " + f.doc + ".";
+        });
+        return s;
+    }();
+    return doc.c_str();
+}
+
 // The chain of one model and the state it is at, for Python: `run` passes the state into the
 // chain and takes the one it returns (montecarlo/chain.hpp); nothing sets a part of it.
 template <class Model>
@@ -66,51 +180,10 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                    "particle's tiling (main text, 'Monte-Carlo validation of the phase diagram'). Energy = sum over "
                    "clusters of -g * bonds + relaxed deformation energy; relaxed energies are cached by shape up to "
                    "translations and the symmetries the particle and the tiling share.")
-        .def(py::init([](const Model& model, double g, int box, int n, std::uint64_t seed, const std::string& method,
-                         double tol, int max_iter, bool cache, bool warm_start, bool incremental, std::size_t cache_limit,
-                         bool delayed_acceptance, double bond_deformation, double cluster_moves, double cluster_link, double bonded_moves,
-                         double surface_moves, bool parent_start, bool parent_factor, int parent_factor_min_particles,
-                         const std::optional<BoundState>& state) {
-                 MonteCarloOptions o;
-                 if (method == "linear") o.relax.method = RelaxMethod::Linear;
-                 else if (method == "lbfgs") o.relax.method = RelaxMethod::Lbfgs;
-                 else if (method == "newton") o.relax.method = RelaxMethod::Newton;
-                 else throw std::invalid_argument("method must be 'linear', 'lbfgs' or 'newton', got '" + method + "'");
-                 if (!(tol > 0)) throw std::invalid_argument("tol must be positive");
-                 if (max_iter < 1) throw std::invalid_argument("max_iter must be at least 1");
-                 o.relax.minimize.gradient_tolerance = tol;
-                 o.relax.minimize.max_iterations = max_iter;
-                 o.relax.minimize.step_scale = model.step_scale();
-                 o.relax.warm_start = warm_start;
-                 o.cache = cache;
-                 o.incremental = incremental;
-                 o.cache_limit = cache_limit;
-                 if (!std::isfinite(bond_deformation)) throw std::invalid_argument("bond_deformation must be finite");
-                 o.delayed_acceptance = delayed_acceptance;
-                 o.bond_deformation = bond_deformation;
-                 if (!(cluster_moves >= 0 && cluster_moves <= 1))
-                     throw std::invalid_argument("cluster_moves must lie in [0, 1], got " + std::to_string(cluster_moves));
-                 o.cluster_moves = cluster_moves;
-                 if (!(cluster_link >= 0 && cluster_link <= 1))
-                     throw std::invalid_argument("cluster_link must lie in [0, 1], got " + std::to_string(cluster_link));
-                 o.cluster_link = cluster_link;
-                 if (!(bonded_moves >= 0 && bonded_moves < 1))  // at 1 a particle could never leave an aggregate
-                     throw std::invalid_argument("bonded_moves must lie in [0, 1), got " + std::to_string(bonded_moves));
-                 o.bonded_moves = bonded_moves;
-                 if (!(surface_moves >= 0 && surface_moves < 1))  // at 1 a gas particle could never leave its spot
-                     throw std::invalid_argument("surface_moves must lie in [0, 1), got " + std::to_string(surface_moves));
-                 o.surface_moves = surface_moves;
-                 if (parent_start && o.relax.method != RelaxMethod::Newton)
-                     throw std::invalid_argument("parent_start needs method='newton'");
-                 o.parent_start = parent_start;
-                 if (parent_factor && !parent_start) throw std::invalid_argument("parent_factor needs parent_start");
-                 if (parent_factor_min_particles < 0)
-                     throw std::invalid_argument("parent_factor_min_particles must be non-negative, got " +
-                                                 std::to_string(parent_factor_min_particles));
-                 o.parent_factor = parent_factor;
-                 o.parent_factor_min_particles = parent_factor_min_particles;
-                 o.relax.own_ldl = parent_start;  // the warm path factorises with the kernel's own LDL^T
-                 auto* mc = new MC{MonteCarlo<Model>(model, g, box, o), ChainState{}};
+        .def(py::init([](const Model& model, double g, int box, int n, std::uint64_t seed,
+                         const std::optional<BoundState>& state, const py::kwargs& options) {
+                 auto* mc = new MC{MonteCarlo<Model>(model, g, box, chain_settings(options_from_keywords(options), model.step_scale())),
+                                   ChainState{}};
                  if (!state) {
                      mc->state = mc->chain.initial_state(n, seed);
                      return mc;
@@ -125,25 +198,8 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                  mc->state = mc->chain.run(std::move(given), 0.0, 0, none);
                  return mc;
              }),
-             py::arg("model"), py::arg("g"), py::arg("box"), py::arg("n"), py::arg("seed"), py::arg("method") = "linear",
-             py::arg("tol") = 1e-7, py::arg("max_iter") = 100000, py::arg("cache") = true, py::arg("warm_start") = true,
-             py::arg("incremental") = true, py::arg("cache_limit") = std::size_t(1) << 24,
-             py::arg("delayed_acceptance") = true, py::arg("bond_deformation") = 0.0, py::arg("cluster_moves") = 0.0,
-             py::arg("cluster_link") = 1.0, py::arg("bonded_moves") = 0.0, py::arg("surface_moves") = 0.0,
-             py::arg("parent_start") = false, py::arg("parent_factor") = false, py::arg("parent_factor_min_particles") = 0,
-             py::arg("state") = py::none(),
-             "Random initial placement drawn from the seeded std::mt19937_64, or the given state (a MonteCarloState of this box). tol is the absolute L-BFGS gradient "
-             "tolerance (NLopt works in units of the model's step_scale); cache_limit the stored key entries before the cache is cleared; delayed_acceptance screens "
-             "moves with the surrogate energy -(g - bond_deformation) * bonds before relaxing anything (same "
-             "Boltzmann distribution); cluster_moves is the probability of a cluster translation: a set grown from "
-             "a random particle by following each bond with probability cluster_link, shifted by a random lattice vector "
-             "and accepted with the Metropolis-Hastings ratio (cluster_link = 1: whole clusters, rejected on any overlap or "
-             "new contact, so shape and energy unchanged; below 1 aggregates can merge and split); bonded_moves is the probability that a particle move "
-             "targets an empty site next to another particle (aggregation-volume-bias, with its Hastings ratio); surface_moves is the probability that a non-cluster move takes a random particle with an empty neighbour to a random empty site next to a particle (with its Hastings ratio); parent_start (method='newton') relaxes the clusters a move makes "
-             "from the relaxed displacements of the clusters they came from, exact Hessian from the first step (energies "
-             "equal the cold start's to the tolerance, not to the last bit); parent_factor (with parent_start) relaxes a cluster "
-             "a move changes by a few particles by chord steps on its parent cluster's modified factor, kept by clusters of at "
-             "least parent_factor_min_particles particles; incremental=False re-minimises every cluster of the box on every move.")
+             py::arg("model"), py::arg("g"), py::arg("box"), py::arg("n"), py::arg("seed"), py::kw_only(),
+             py::arg("state") = py::none(), constructor_doc())
         .def(
             "run",
             [](MC& mc, py::array_t<double, py::array::c_style | py::array::forcecast> temperatures,
@@ -194,6 +250,9 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                                "Running sum of relaxed deformation energies.")
         .def_property_readonly("bonds", [](const MC& mc) { return mc.state.bonds; }, "Bound pairs of sides in the box.")
         .def_property_readonly("g", [](const MC& mc) { return mc.chain.g(); })
+        .def_property_readonly(
+            "options", [](const MC& mc) { return options_dict(mc.chain.options()); },
+            "The options the chain runs with, every field of the table (montecarlo/options.hpp): 'auto' resolved.")
         .def_property_readonly("n", &MC::n)
         .def_property_readonly("box", [](const MC& mc) { return mc.chain.box().L; })
         .def("box_energy", [](MC& mc, bool canonical) { return mc.chain.box_energy(mc.state, canonical); },

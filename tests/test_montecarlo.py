@@ -37,10 +37,14 @@ def g():
     return float(continuum.particle_parameters(5, 0.9, 0.5, eps=0.01).g)
 
 
+#: A chain of particle moves alone (the kernel's defaults are the measured MonteCarloOptions ones).
+PARTICLE_MOVES_ONLY = dict(cluster_moves=0.0, cluster_link=1.0, bonded_moves=0.0, surface_moves=0.0)
+
+
 def kernel_mc(particle, g, box, n, seed, method="linear", tol=1e-5, **kw):
     kw.setdefault("bond_deformation", particle.bulk_energy_per_particle / 3)
-    return _kernel.MonteCarlo(particle._kernel_model, g, box, n, seed, method,
-                              tol * particle.force_scale, **kw)
+    return _kernel.MonteCarlo(particle._kernel_model, g, box, n, seed, method=method, tol=tol,
+                              force_scale=particle.force_scale, **{**PARTICLE_MOVES_ONLY, **kw})
 
 
 def transform(sites, m):
@@ -645,7 +649,7 @@ def test_anneal_runs_for_every_particle_model(name):
 
     bonds = sum(wrap(v) in occupied for s in occupied for v in T.neighbour_sites(s, particle.tiling)) // 2
     assert r.bonds == bonds
-    mc = _kernel.MonteCarlo(particle._kernel_model, g, 8, 30, 3, "linear", 1e-8)
+    mc = _kernel.MonteCarlo(particle._kernel_model, g, 8, 30, 3, method="linear", tol=1e-8)
     mc.place(r.sites)
     assert mc.box_energy(False) == pytest.approx(r.energy, rel=1e-9, abs=1e-12)
 
@@ -740,8 +744,8 @@ def test_zero_temperature_takes_every_descending_move_with_delayed_acceptance():
     pair = relax(particle, T.cluster([(0, 0, 0), (0, 0, 1)], tiling="triangle"), tol=1e-12).energy
     g = 0.5 * pair  # a bond gains less than the pair's deformation costs
     sites = [(4 * i, 4 * j, s) for i in range(3) for j in range(3) for s in (0, 1)]  # nine pairs
-    mc = _kernel.MonteCarlo(particle._kernel_model, g, 12, len(sites), 5, "linear", 1e-8,
-                            bond_deformation=particle.bulk_energy_per_particle / 1.5)
+    mc = _kernel.MonteCarlo(particle._kernel_model, g, 12, len(sites), 5, method="linear", tol=1e-8,
+                            **PARTICLE_MOVES_ONLY, bond_deformation=particle.bulk_energy_per_particle / 1.5)
     mc.place(np.array(sites, dtype=np.int32))
     assert mc.bonds == 9
     mc.run(np.array([0.0]), np.array([4000]))

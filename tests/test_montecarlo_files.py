@@ -19,7 +19,7 @@ from pyfrustrate import continuum
 from pyfrustrate.montecarlo import MonteCarloOptions, geometric_temperatures, read_checkpoint, replica_exchange
 from pyfrustrate.montecarlo.checkpoints import FORMAT, write_checkpoint
 
-from test_montecarlo import g, particle  # noqa: F401 (fixtures: Hexagon ell 5, nu 0.9, eps 0.01 and g at Gamma 0.5)
+from test_montecarlo import PARTICLE_MOVES_ONLY, g, particle  # noqa: F401 (fixtures: Hexagon ell 5, nu 0.9, eps 0.01 and g at Gamma 0.5)
 
 
 RUN = dict(box=10, n=20, steps=20 * 30, seed=8, record_every=20, method="lbfgs", progress=False)
@@ -276,7 +276,8 @@ def test_a_chain_continued_from_its_state_equals_the_uninterrupted_one(particle,
     from pyfrustrate import _kernel
 
     def chain(**kw):
-        return _kernel.MonteCarlo(particle._kernel_model, g, 8, 20, 5, "lbfgs", 1e-6 * particle.force_scale, **moves, **kw)
+        return _kernel.MonteCarlo(particle._kernel_model, g, 8, 20, 5, method="lbfgs", tol=1e-6,
+                                  force_scale=particle.force_scale, **{**PARTICLE_MOVES_ONLY, **moves}, **kw)
 
     T = np.linspace(g, 0.1 * g, 12)
     whole = chain()

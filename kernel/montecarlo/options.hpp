@@ -1,11 +1,18 @@
-// The options of a Monte Carlo chain (montecarlo/chain.hpp), checked once in Python
-// (pyfrustrate.montecarlo.options) and by the binding's constructor for direct kernel use.
+// The options of a Monte Carlo chain (montecarlo/chain.hpp) and their one table: each field's
+// name, the values it takes, its default (the value in a default-made MonteCarloOptions) and what
+// it means, listed once in for_each_option. The binding (bind_montecarlo.hpp) builds the chain's
+// keywords, their checks, the constructor's documentation and the options' read-back from that
+// table; Python's MonteCarloOptions (pyfrustrate/montecarlo/options.py) takes its fields,
+// defaults and checks from it too. A new option is one member and one line of for_each_option.
 #pragma once
 
 #include "cluster_energy.hpp"
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace pyfrustrate {
 
@@ -13,7 +20,12 @@ namespace pyfrustrate {
 inline bool metropolis(double delta, double T, double u) { return delta <= 0 || (T > 0 && u < std::exp(-delta / T)); }
 
 struct MonteCarloOptions {
-    ClusterRelaxOptions relax;
+    // Defaults: the best settings measured for annealing the paper's sparse box
+    // (pyfrustrate.montecarlo.options.DEFAULTS_MEASURED says where), for anneal, replica_exchange,
+    // the workflow and the kernel alike.
+    ClusterRelaxOptions relax{RelaxMethod::Auto};
+    double tol = 1e-3;          // relative: the chain relaxes to max gradient <= tol * force_scale
+    double force_scale = 1.0;   // the particle's force unit (Python: particle.force_scale)
     // Delayed acceptance (Christen & Fox, J. Comput. Graph. Stat. 14, 795 (2005)): a move is
     // first screened with the surrogate energy E_s = -(g - bond_deformation) * bonds, accepted
     // there with min(1, exp(-dE_s / T)); only then are the clusters relaxed and the move
@@ -26,10 +38,10 @@ struct MonteCarloOptions {
     // The move families' probabilities and parameters, each explained in its header
     // (montecarlo/cluster_move.hpp, particle_move.hpp, surface_move.hpp). 0: the family is off
     // (no deviate drawn).
-    double cluster_moves = 0.0;
-    double cluster_link = 1.0;
-    double bonded_moves = 0.0;
-    double surface_moves = 0.0;
+    double cluster_moves = 0.05;
+    double cluster_link = 0.9;
+    double bonded_moves = 0.5;
+    double surface_moves = 0.2;
     bool cache = true;        // cache relaxed energies by canonical shape
     bool incremental = true;  // false: re-minimise every cluster of the box on every move
                               // (the naive baseline of the benchmark; no cache either)
@@ -41,14 +53,173 @@ struct MonteCarloOptions {
     // the cold start (the linear solution of the canonical representative) to the solver's
     // tolerance, not to the last bit: they depend on the path (and on the cache) at that level.
     bool parent_start = false;
-    // parent_start only: a cluster a move changes by at most kMaxChangedParticles particles
-    // relaxes by chord steps on its parent cluster's factor, modified (parent_factor.hpp), instead
-    // of factorising its own Hessian; each relaxed cluster of at least parent_factor_min_particles
-    // particles keeps its factor for its children (one per cluster of the box, dropped with it).
-    // false: the warm start alone (the baseline of benchmarks/bench_mc_goals.py).
+    // parent_start only: a cluster a move changes by at most
+    // kMaxChangedParticles particles relaxes by chord steps on its parent cluster's factor,
+    // modified (parent_factor.hpp), instead of factorising its own Hessian; each relaxed cluster
+    // of at least parent_factor_min_particles particles keeps its factor for its children (one
+    // per cluster of the box, dropped with it). false: the warm start alone (the baseline of
+    // benchmarks/bench_mc_goals.py).
     bool parent_factor = false;
     int parent_factor_min_particles = 0;
 };
+
+// What values a field takes.
+enum class OptionKind {
+    Flag,     // true or false
+    Real,     // a real number in [lo, hi] (lo_open: (lo, ...; hi_open: ..., hi))
+    Integer,  // an integer in [lo, hi]
+    Method,   // "auto", "newton", "lbfgs" or "linear" (RelaxMethod)
+};
+
+// Who sets a field: a run's options (Python's MonteCarloOptions, which checkpoints record), the
+// caller from the particle (its units), or a benchmark's baseline (kernel callers only).
+enum class OptionScope { Run, Particle, Benchmark };
+
+struct OptionField {
+    const char* name;
+    OptionKind kind;
+    OptionScope scope;
+    const char* doc;
+    double lo = 0, hi = 0;
+    bool lo_open = false, hi_open = false;
+};
+
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+constexpr double kIntMax = std::numeric_limits<int>::max();
+
+inline OptionField flag(const char* name, OptionScope scope, const char* doc) {
+    return {name, OptionKind::Flag, scope, doc};
+}
+inline OptionField real(const char* name, OptionScope scope, double lo, bool lo_open, double hi, bool hi_open,
+                        const char* doc) {
+    return {name, OptionKind::Real, scope, doc, lo, hi, lo_open, hi_open};
+}
+inline OptionField integer(const char* name, OptionScope scope, double lo, double hi, const char* doc) {
+    return {name, OptionKind::Integer, scope, doc, lo, hi};
+}
+
+// Every option, in the order of Python's MonteCarloOptions, handed to f(field, member) with the
+// member of `o` (or of o.relax) that holds it. The one list of the options.
+template <class Options, class F>
+void for_each_option(Options& o, F&& f) {
+    using S = OptionScope;
+    f(OptionField{"method", OptionKind::Method, S::Run,
+                  "cluster relaxation: 'auto' (Newton, as pf.relax), 'newton', 'lbfgs', or 'linear' (the linearised "
+                  "solve alone, biased upwards for loosely bound clusters)"},
+      o.relax.method);
+    f(real("tol", S::Run, 0, true, kUnbounded, true,
+           "relaxation tolerance relative to the force scale: max gradient <= tol * force_scale"),
+      o.tol);
+    f(integer("max_iter", S::Run, 1, kIntMax, "energy evaluations per L-BFGS relaxation"),
+      o.relax.minimize.max_iterations);
+    f(flag("warm_start", S::Run,
+           "warm starts: L-BFGS from the linear solution (else the bulk reference); with Newton, MonteCarloOptions "
+           "turns parent_start on (from the parents' relaxed displacements)"),
+      o.relax.warm_start);
+    f(flag("delayed_acceptance", S::Run, "screen each move with the bond count before relaxing (Christen & Fox 2005)"),
+      o.delayed_acceptance);
+    f(real("cluster_moves", S::Run, 0, false, 1, false,
+           "probability of a cluster move: a set grown from a random particle along bonds, shifted by a lattice vector"),
+      o.cluster_moves);
+    f(real("cluster_link", S::Run, 0, false, 1, false,
+           "probability of following each bond when growing a moved cluster (1: whole clusters, rejected on contact)"),
+      o.cluster_link);
+    // At 1 a particle could never leave an aggregate.
+    f(real("bonded_moves", S::Run, 0, false, 1, true,
+           "probability that a particle move targets an empty site next to another particle"),
+      o.bonded_moves);
+    // At 1 a gas particle could never leave its spot.
+    f(real("surface_moves", S::Run, 0, false, 1, true,
+           "probability that a non-cluster move takes a particle with an empty neighbour next to another particle"),
+      o.surface_moves);
+    f(flag("cache", S::Run, "cache relaxed cluster energies by canonical shape (speed only)"), o.cache);
+    f(flag("parent_factor", S::Run,
+           "with parent_start (MonteCarloOptions: Newton with warm_start): a cluster a move changes by a few particles "
+           "relaxes on its parent's modified factor"),
+      o.parent_factor);
+    f(integer("parent_factor_min_particles", S::Run, 0, kIntMax,
+              "the smallest relaxed cluster that keeps its factor for its children"),
+      o.parent_factor_min_particles);
+    f(real("force_scale", S::Particle, 0, true, kUnbounded, true, "the particle's force unit (particle.force_scale)"),
+      o.force_scale);
+    f(real("bond_deformation", S::Particle, -kUnbounded, true, kUnbounded, true,
+           "the surrogate's deformation energy per bond (bulk energy per particle over bonds per bulk particle)"),
+      o.bond_deformation);
+    f(flag("parent_start", S::Particle,
+           "Newton: relax each new cluster from its parents' relaxed displacements, exact Hessian from the first step"),
+      o.parent_start);
+    f(flag("incremental", S::Benchmark, "false: re-minimise every cluster of the box on every move (no cache either)"),
+      o.incremental);
+    f(integer("cache_limit", S::Benchmark, 1, 9.0e15, "stored cache key entries before the cache is cleared"),
+      o.cache_limit);
+}
+
+inline std::string number_text(double x) {
+    if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+    std::string s = std::to_string(x);
+    if (s.find('.') != std::string::npos) {
+        s.erase(s.find_last_not_of('0') + 1);
+        if (s.back() == '.') s.pop_back();
+    }
+    return s;
+}
+
+// The values a field takes, as its error message says them.
+inline std::string range_text(const OptionField& f) {
+    switch (f.kind) {
+        case OptionKind::Flag: return "True or False";
+        case OptionKind::Method: return "'auto', 'newton', 'lbfgs' or 'linear'";
+        case OptionKind::Integer:
+            return "an integer in [" + number_text(f.lo) + ", " + number_text(f.hi) + "]";
+        case OptionKind::Real:
+            break;
+    }
+    if (f.lo == -kUnbounded && f.hi == kUnbounded) return "a finite number";
+    if (f.hi == kUnbounded) return std::string("a finite number ") + (f.lo_open ? "> " : ">= ") + number_text(f.lo);
+    return std::string("a number in ") + (f.lo_open ? "(" : "[") + number_text(f.lo) + ", " + number_text(f.hi) +
+           (f.hi_open ? ")" : "]");
+}
+
+// ValueError (through pybind11) naming the field, its range and the value given.
+[[noreturn]] inline void refuse_option(const OptionField& f, const std::string& given) {
+    throw std::invalid_argument(std::string(f.name) + " must be " + range_text(f) + ", got " + given);
+}
+
+inline bool in_range(const OptionField& f, double x) {
+    if (!std::isfinite(x)) return false;
+    return (f.lo_open ? x > f.lo : x >= f.lo) && (f.hi_open ? x < f.hi : x <= f.hi);
+}
+
+inline const char* method_name(RelaxMethod m) {
+    switch (m) {
+        case RelaxMethod::Linear: return "linear";
+        case RelaxMethod::Lbfgs: return "lbfgs";
+        case RelaxMethod::Newton: return "newton";
+        case RelaxMethod::Auto: break;
+    }
+    return "auto";
+}
+
+inline RelaxMethod method_named(const OptionField& f, const std::string& name) {
+    for (const RelaxMethod m : {RelaxMethod::Auto, RelaxMethod::Newton, RelaxMethod::Lbfgs, RelaxMethod::Linear})
+        if (name == method_name(m)) return m;
+    refuse_option(f, "'" + name + "'");
+}
+
+// What the chain runs from checked options: "auto" resolved (Newton, as pf.relax for one
+// aggregate: the chain's warm starts are Newton's), the absolute tolerance, the particle's step
+// scale. Refuses parent_start without Newton, parent_factor without parent_start.
+inline MonteCarloOptions chain_settings(MonteCarloOptions o, double step_scale) {
+    if (o.relax.method == RelaxMethod::Auto) o.relax.method = RelaxMethod::Newton;
+    if (o.parent_start && o.relax.method != RelaxMethod::Newton)
+        throw std::invalid_argument("parent_start needs method='newton' (or 'auto'), got method='" +
+                                    std::string(method_name(o.relax.method)) + "'");
+    if (o.parent_factor && !o.parent_start) throw std::invalid_argument("parent_factor needs parent_start");
+    o.relax.minimize.gradient_tolerance = o.tol * o.force_scale;
+    o.relax.minimize.step_scale = step_scale;
+    o.relax.own_ldl = o.parent_start;  // the warm path factorises with the kernel's own LDL^T
+    return o;
+}
 
 // parent_start: a moved particle whose known corners lie farther than this many step_scale
 // (the mismatch) from the rigid fit makes the start cold. Measured in the dense box (300 in

@@ -316,6 +316,11 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
     method; ``options.DEFAULTS_MEASURED`` names where): Newton cluster energies (``method="auto"``,
     as ``relax``) warm-started from the parents' relaxed state, the linear schedule from
     ``T0 = g``, cluster moves 0.05 at link 0.9, bonded moves 0.5 and surface moves 0.2.
+    What they reach on the issue's bar case (400 hexagons in 60 x 60, nu = 0.9, Gamma = 0.3,
+    seed 1) against the best single aggregate, and at what CPU cost, beside the former defaults
+    (L-BFGS, particle moves only): ``benchmarks/bench_anneal_defaults.py`` writes
+    ``benchmarks/results/anneal_defaults.csv``, which the Monte Carlo topic page of the
+    documentation quotes.
 
     Parameters
     ----------

@@ -13,16 +13,16 @@ particle's spring units, by keyword, exactly one of them.
 """
 from __future__ import annotations
 
-import dataclasses
-import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
-from .. import _checks, continuum
-from .._checks import integer, non_negative, probability
-from ..relaxation import AUTO_METHOD, METHODS
+from .. import _checks, _kernel, continuum
+from .._checks import non_negative
+from ..relaxation import AUTO_METHOD
 from ..topology import tiling_facts
 
-__all__ = ["MonteCarloOptions", "binding", "chain_options", "check_particle", "DEFAULTS_MEASURED"]
+__all__ = ["MonteCarloOptions", "binding", "chain_options", "check_particle", "DEFAULTS_MEASURED",
+           "KERNEL_OPTION_FIELDS"]
 
 #: Where the defaults of ``MonteCarloOptions`` were measured: the paper profile's Monte Carlo
 #: diagram (81 runs of 200 hexagons in 60 x 60, ell = 5), whose runs with these moves ended within
@@ -103,89 +103,27 @@ def binding(particle, *, Gamma=None, g=None, convention="measured") -> float:
     return Gamma / per_g
 
 
-@dataclass(frozen=True)
+#: The kernel's table of the chain's options (kernel/montecarlo/options.hpp), one dict per field:
+#: name, kind, scope, default, range, doc. The fields of scope ``"run"`` are ``MonteCarloOptions``'s;
+#: the others the kernel takes from the particle (``kernel_arguments``) or only benchmarks set.
+KERNEL_OPTION_FIELDS = tuple(_kernel.monte_carlo_option_fields())
+_RUN_FIELDS = tuple(f for f in KERNEL_OPTION_FIELDS if f["scope"] == "run")
+_PYTHON_TYPES = {"flag": bool, "real": float, "integer": int, "method": str}
+
+
 class MonteCarloOptions:
-    """How a Monte Carlo chain moves and relaxes (the ``anneal`` docstring explains each field).
+    # The docstring and the fields are the kernel table's (below the class): nothing here repeats
+    # a name, a default or a range.
+    if TYPE_CHECKING:  # made at import from the table: a type checker sees keywords and attributes
+        def __init__(self, **fields: Any) -> None: ...
 
-    Made once, checked once: a bad value raises ``ValueError`` naming it.
-
-    Parameters
-    ----------
-    method : {"auto", "newton", "lbfgs", "linear"}
-        Cluster relaxation; ``"auto"`` is ``relaxation.AUTO_METHOD``.
-    tol : float
-        Relative relaxation tolerance (> 0): max gradient <= ``tol * particle.force_scale``.
-    max_iter : int
-        Energy evaluations per L-BFGS relaxation, in [1, 2**31 - 1].
-    warm_start : bool
-        Newton: from the parents' relaxed displacements; L-BFGS: from the linear solution.
-    delayed_acceptance : bool
-        Screen each move with the bond count before relaxing (Christen & Fox 2005).
-    cluster_moves : float
-        Probability of a cluster move, in [0, 1].
-    cluster_link : float
-        Probability of following each bond when growing a moved cluster, in [0, 1].
-    bonded_moves : float
-        Probability of moving a particle next to another one, in [0, 1).
-    surface_moves : float
-        Probability of a surface move, in [0, 1).
-    cache : bool
-        The cluster-energy cache (speed only).
-    parent_factor : bool
-        Newton with ``warm_start``: a cluster a move changes by a few particles relaxes on its
-        parent cluster's modified factor (off by default: benchmarks/bench_mc_goals.py measures
-        it against the warm start).
-    parent_factor_min_particles : int
-        The smallest cluster that takes the parent-factor path.
-
-    Raises
-    ------
-    ValueError
-        A field out of range or of the wrong type, named.
-
-    Examples
-    --------
-    >>> from pyfrustrate.montecarlo import MonteCarloOptions
-    >>> options = MonteCarloOptions(cluster_moves=0.0)
-    >>> options.resolved_method, options.replace(method="lbfgs").resolved_method
-    ('newton', 'lbfgs')
-    """
-
-    method: str = "auto"
-    tol: float = 1e-3
-    max_iter: int = 100_000
-    warm_start: bool = True
-    delayed_acceptance: bool = True
-    cluster_moves: float = 0.05
-    cluster_link: float = 0.9
-    bonded_moves: float = 0.5
-    surface_moves: float = 0.2
-    cache: bool = True
-    parent_factor: bool = False
-    parent_factor_min_particles: int = 0
+        def __getattr__(self, name: str) -> Any: ...
 
     def __post_init__(self):
-        if self.method not in METHODS:
-            raise ValueError(f"method must be one of {METHODS}, got {self.method!r}")
-        if isinstance(self.tol, bool) or not (isinstance(self.tol, (int, float)) and math.isfinite(self.tol)
-                                              and self.tol > 0):
-            raise ValueError(f"tol must be positive, got {self.tol!r}")
-        set_ = object.__setattr__  # frozen: the checked values replace the given ones once
-        set_(self, "tol", float(self.tol))
-        set_(self, "max_iter", integer("max_iter", self.max_iter, 1, 2**31 - 1))
-        for name in ("cluster_moves", "cluster_link"):
-            set_(self, name, probability(name, getattr(self, name)))
-        for name, why in (("bonded_moves", "a particle could never leave an aggregate"),
-                          ("surface_moves", "a gas particle could never move")):
-            value = probability(name, getattr(self, name))
-            if value == 1:
-                raise ValueError(f"{name} must lie in [0, 1), got 1 ({why})")
-            set_(self, name, value)
-        set_(self, "parent_factor_min_particles",
-             integer("parent_factor_min_particles", self.parent_factor_min_particles, 0, 2**31 - 1))
-        for name in ("warm_start", "delayed_acceptance", "cache", "parent_factor"):
-            if not isinstance(getattr(self, name), bool):
-                raise ValueError(f"{name} must be True or False, got {getattr(self, name)!r}")
+        # The one check, the kernel's: a bad value raises ValueError naming its field and range.
+        checked = _kernel.check_monte_carlo_options(**self._values())
+        for field in _RUN_FIELDS:  # frozen: the checked values replace the given ones once
+            object.__setattr__(self, field["name"], checked[field["name"]])
 
     @property
     def resolved_method(self) -> str:
@@ -212,7 +150,11 @@ class MonteCarloOptions:
         TypeError
             A keyword that is no field.
         """
-        return dataclasses.replace(self, **changes)
+        return type(self)(**{**self._values(), **changes})
+
+    def _values(self) -> dict:
+        """Every field by name, in the table's order."""
+        return {field["name"]: getattr(self, field["name"]) for field in _RUN_FIELDS}
 
     def signature(self) -> dict:
         """What a checkpoint records of these options.
@@ -223,7 +165,7 @@ class MonteCarloOptions:
             Every field that changes the chain (not ``cache``, which changes only its speed),
             ``method`` resolved.
         """
-        d = dataclasses.asdict(self)
+        d = self._values()
         d.pop("cache")
         d["method"] = self.resolved_method
         return d
@@ -239,20 +181,56 @@ class MonteCarloOptions:
         Returns
         -------
         dict
-            The tolerance in force units, the surrogate's deformation energy per bond (bulk
-            energy per particle over bonds per bulk particle), warm starts as the method takes
-            them, and the move probabilities.
+            These fields (``method`` resolved) and those the kernel takes from the particle: its
+            force scale (the unit of ``tol``), the surrogate's deformation energy per bond (bulk
+            energy per particle over bonds per bulk particle), and warm starts as the method
+            takes them (``parent_start``: Newton from the parents' relaxed state; ``parent_factor``
+            only with it).
         """
         method = self.resolved_method
         tiling = tiling_facts(particle.tiling)
-        return dict(method=method, tol=self.tol * particle.force_scale, max_iter=self.max_iter, cache=self.cache,
-                    warm_start=self.warm_start, delayed_acceptance=self.delayed_acceptance,
+        parent_start = self.warm_start and method == "newton"
+        return dict(self._values(), method=method, force_scale=float(particle.force_scale),
                     bond_deformation=float(particle.bulk_energy_per_particle) / tiling["bulk_bonds_per_particle"],
-                    cluster_moves=self.cluster_moves, cluster_link=self.cluster_link,
-                    bonded_moves=self.bonded_moves, surface_moves=self.surface_moves,
-                    parent_start=self.warm_start and method == "newton",
-                    parent_factor=self.parent_factor and self.warm_start and method == "newton",
-                    parent_factor_min_particles=self.parent_factor_min_particles)
+                    parent_start=parent_start, parent_factor=self.parent_factor and parent_start)
+
+
+def _field_list(fields) -> str:
+    """A numpydoc Parameters section of the kernel table's ``fields``."""
+    return "\n".join(f"    {f['name']} : {_PYTHON_TYPES[f['kind']].__name__}\n        {f['doc'][0].upper()}{f['doc'][1:]}; "
+                     f"{f['range']}, default ``{f['default']!r}``." for f in fields)
+
+
+MonteCarloOptions.__doc__ = f"""How a Monte Carlo chain moves and relaxes (the ``anneal`` docstring explains each field).
+
+    Made once, checked once, by the kernel (``kernel/montecarlo/options.hpp``, whose table gives
+    the fields, their defaults and ranges): a bad value raises ``ValueError`` naming it.
+
+    Parameters
+    ----------
+{_field_list(_RUN_FIELDS)}
+
+    Raises
+    ------
+    ValueError
+        A field out of range or of the wrong type, named.
+
+    Examples
+    --------
+    >>> from pyfrustrate.montecarlo import MonteCarloOptions
+    >>> options = MonteCarloOptions(cluster_moves=0.0)
+    >>> options.resolved_method, options.replace(method="lbfgs").resolved_method
+    ('newton', 'lbfgs')
+    >>> MonteCarloOptions(cluster_link=2)
+    Traceback (most recent call last):
+    ...
+    ValueError: cluster_link must be a number in [0, 1], got 2
+    """
+MonteCarloOptions.__annotations__ = {f["name"]: _PYTHON_TYPES[f["kind"]] for f in _RUN_FIELDS}
+for _field in _RUN_FIELDS:
+    setattr(MonteCarloOptions, _field["name"], _field["default"])
+dataclass(frozen=True)(MonteCarloOptions)  # in place: the class keeps its name for type checkers
+del _field
 
 
 def chain_options(options, fields: dict) -> MonteCarloOptions:
@@ -277,7 +255,7 @@ def chain_options(options, fields: dict) -> MonteCarloOptions:
     ValueError
         A field out of range.
     """
-    names = {f.name for f in dataclasses.fields(MonteCarloOptions)}
+    names = {field["name"] for field in _RUN_FIELDS}
     unknown = sorted(set(fields) - names)
     if unknown:
         raise TypeError(f"unexpected keyword argument(s) {', '.join(map(repr, unknown))}; the chain's options are "

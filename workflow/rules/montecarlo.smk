@@ -29,6 +29,9 @@ rule montecarlo_run:
         "../envs/pyfrustrate.yaml"
     log:
         "results/logs/montecarlo/{kind}_nu{nu}_G{Gamma}_seed{seed}.log",
+    # Per-rule cost tables (scripts/mc_rule_benchmarks.sh, docs/topics/montecarlo.md).
+    benchmark:
+        "results/benchmarks/montecarlo_run/{kind}_nu{nu}_G{Gamma}_seed{seed}.tsv"
     script:
         "../scripts/montecarlo_run.py"
 

@@ -58,6 +58,8 @@ rule triangle_montecarlo_run:
         "../envs/pyfrustrate.yaml"
     log:
         "results/logs/triangle/{kind}_nu{nu}_G{Gamma}.log",
+    benchmark:
+        "results/benchmarks/triangle_montecarlo_run/{kind}_nu{nu}_G{Gamma}.tsv"
     script:
         "../scripts/montecarlo_run.py"
 

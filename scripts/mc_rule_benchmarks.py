@@ -1,0 +1,151 @@
+"""The Monte Carlo rules' cost, per rule, from Snakemake's ``benchmark:`` files (issue 32, 6(d)).
+
+Two commands, used by ``scripts/mc_rule_benchmarks.sh``:
+
+``patch RULES_DIR OTHER_RULES_DIR RULE...``
+    Gives each named rule of ``OTHER_RULES_DIR/*.smk`` (an older checkout's workflow) the
+    ``benchmark:`` directive the same rule has in ``RULES_DIR`` (this checkout's), where it has
+    none, so that a commit from before the directives is timed the same way.
+
+``table BENCHMARK_DIR OUT_CSV --commit C --profile P RULE...``
+    One row per rule from ``BENCHMARK_DIR/RULE/*.tsv`` (one file per job): jobs, total and
+    median CPU seconds (Snakemake's ``cpu_time``, user + system of the job's processes), total
+    wall seconds, largest resident set (MB); written atomically, its first line a ``#`` comment
+    saying what was measured (the documentation's ``measured`` role reads it).
+
+Standard library only: it runs with any Python, on any commit's results.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+import platform
+import re
+import statistics
+import sys
+import tempfile
+from pathlib import Path
+
+_RULE = re.compile(r"^rule (\w+):\s*$")
+_DIRECTIVE = re.compile(r"^    (\w+):")
+
+
+def rule_blocks(text: str) -> dict[str, tuple[int, int]]:
+    """Each rule's lines ``[start, end)`` in a Snakemake file's lines (a rule ends at the next
+    unindented line that is not blank)."""
+    lines = text.splitlines(keepends=True)
+    blocks, current = {}, None
+    for i, line in enumerate(lines):
+        if current is not None and line.strip() and not line.startswith((" ", "\t")):
+            blocks[current[0]] = (current[1], i)
+            current = None
+        match = _RULE.match(line)
+        if match:
+            current = (match.group(1), i)
+    if current is not None:
+        blocks[current[0]] = (current[1], len(lines))
+    return blocks
+
+
+def directive(lines: list[str], start: int, end: int, name: str) -> list[str] | None:
+    """The lines of directive ``name`` of the rule at ``lines[start:end]`` (None: absent)."""
+    for i in range(start + 1, end):
+        match = _DIRECTIVE.match(lines[i])
+        if match and match.group(1) == name:
+            j = i + 1
+            while j < end and (lines[j].startswith("        ") or not lines[j].strip()):
+                j += 1
+            while j > i + 1 and not lines[j - 1].strip():
+                j -= 1
+            return lines[i:j]
+    return None
+
+
+def patch(rules_dir: Path, other_dir: Path, rules: list[str]) -> None:
+    wanted = {}
+    for smk in sorted(rules_dir.glob("*.smk")):
+        lines = smk.read_text().splitlines(keepends=True)
+        for rule, (start, end) in rule_blocks(smk.read_text()).items():
+            if rule in rules:
+                block = directive(lines, start, end, "benchmark")
+                if block is None:
+                    sys.exit(f"patch: rule {rule} of {smk} has no benchmark directive to copy")
+                wanted[rule] = block
+    missing = sorted(set(rules) - set(wanted))
+    if missing:
+        sys.exit(f"patch: no rule {', '.join(missing)} in {rules_dir}")
+    found = set()
+    for smk in sorted(other_dir.glob("*.smk")):
+        text = smk.read_text()
+        lines = text.splitlines(keepends=True)
+        # From the last rule up, so that inserted lines do not move the blocks still to patch.
+        for rule, (start, end) in sorted(rule_blocks(text).items(), key=lambda item: -item[1][0]):
+            if rule not in wanted:
+                continue
+            found.add(rule)
+            if directive(lines, start, end, "benchmark") is None:
+                lines[start + 1:start + 1] = wanted[rule]
+                print(f"patch: {smk.name}: rule {rule} given its benchmark directive")
+        smk.write_text("".join(lines))
+    if set(wanted) - found:
+        sys.exit(f"patch: no rule {', '.join(sorted(set(wanted) - found))} in {other_dir}")
+
+
+def table(benchmark_dir: Path, out: Path, commit: str, profile: str, rules: list[str]) -> None:
+    rows = []
+    for rule in rules:
+        records = []
+        for tsv in sorted((benchmark_dir / rule).glob("**/*.tsv")):
+            with open(tsv, newline="") as fh:
+                records += list(csv.DictReader(fh, delimiter="\t"))
+        if not records:
+            continue
+        cpu = [float(r["cpu_time"]) for r in records]
+        rss = [float(r["max_rss"]) for r in records if r["max_rss"] not in ("", "NA", "-")]
+        rows.append(dict(commit=commit, profile=profile, rule=rule, jobs=len(records), cpu_s_total=f"{sum(cpu):.0f}",
+                         cpu_s_median=f"{statistics.median(cpu):.1f}",
+                         wall_s_total=f"{sum(float(r['s']) for r in records):.0f}",
+                         max_rss_mb=f"{max(rss):.0f}" if rss else ""))
+    if not rows:
+        sys.exit(f"table: no benchmark files of {', '.join(rules)} under {benchmark_dir}")
+    rows.append(dict(commit=commit, profile=profile, rule="all Monte Carlo rules", jobs=sum(r["jobs"] for r in rows),
+                     cpu_s_total=f"{sum(float(r['cpu_s_total']) for r in rows):.0f}", cpu_s_median="",
+                     wall_s_total=f"{sum(float(r['wall_s_total']) for r in rows):.0f}",
+                     max_rss_mb=f"{max(float(r['max_rss_mb']) for r in rows if r['max_rss_mb']):.0f}"))
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=out.parent, prefix=f".{out.name}.")
+    with os.fdopen(fd, "w", newline="") as fh:
+        fh.write(f"# Monte Carlo rules of the {profile} profile at commit {commit}, one job at a time "
+                 f"(scripts/mc_rule_benchmarks.sh); {platform.machine()}, {os.cpu_count()} cores\n")
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    os.replace(tmp, out)
+    print(f"wrote {out}")
+    for row in rows:
+        print("  ".join(f"{k}={v}" for k, v in row.items()))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    sub = ap.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("patch")
+    p.add_argument("rules_dir", type=Path)
+    p.add_argument("other_dir", type=Path)
+    p.add_argument("rules", nargs="+")
+    t = sub.add_parser("table")
+    t.add_argument("benchmark_dir", type=Path)
+    t.add_argument("out", type=Path)
+    t.add_argument("--commit", required=True)
+    t.add_argument("--profile", required=True)
+    t.add_argument("rules", nargs="+")
+    args = ap.parse_args(argv)
+    if args.command == "patch":
+        patch(args.rules_dir, args.other_dir, args.rules)
+    else:
+        table(args.benchmark_dir, args.out, args.commit, args.profile, args.rules)
+
+
+if __name__ == "__main__":
+    main()

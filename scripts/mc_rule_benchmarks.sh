@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# The Monte Carlo rules' cost at one commit (issue 32, 6(d)): checks COMMIT out in a temporary
+# worktree, builds it into its own virtual environment, runs the Monte Carlo rules (and only them:
+# `--until`) that the profile's figures need, one job at a time, and writes the per-rule table
+# (jobs, total and median CPU seconds, largest resident set) from Snakemake's benchmark files.
+#
+#   bash scripts/mc_rule_benchmarks.sh COMMIT [quick|paper] [OUT.csv]
+#
+# quick: the default configuration (~10-20 min per commit on one core); paper: config/paper.yaml
+# (~5 h). A commit from before the rules had their `benchmark:` directives gets this checkout's.
+# OUT defaults to results/benchmarks/mc_rules_<profile>_<commit>.csv. CORES (default 1) jobs run
+# side by side; MC_BENCH_VENV reuses a virtual environment (else a temporary one, built ~3 min);
+# KEEP=1 keeps the temporary worktree (its results/ hold every run's output and log).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+COMMIT="${1:?usage: mc_rule_benchmarks.sh COMMIT [quick|paper] [OUT.csv]}"
+PROFILE="${2:-quick}"
+SHORT="$(git -C "$ROOT" rev-parse --short "$COMMIT^{commit}")"
+OUT="$(realpath -m "${3:-$ROOT/results/benchmarks/mc_rules_${PROFILE}_${SHORT}.csv}")"
+RULES=(montecarlo_run triangle_montecarlo_run)
+case "$PROFILE" in
+  quick) CONFIG=() ;;
+  paper) CONFIG=(--configfile config/paper.yaml) ;;
+  *) echo "mc_rule_benchmarks: profile must be quick or paper, got '$PROFILE'" >&2; exit 2 ;;
+esac
+
+WORK="$(mktemp -d "${TMPDIR:-/tmp}/mc-rule-benchmarks.XXXXXX")"
+cleanup() {
+  if [ "${KEEP:-0}" = 1 ]; then
+    echo "[mc_rule_benchmarks] kept $WORK"
+  else
+    git -C "$ROOT" worktree remove --force "$WORK/src" 2>/dev/null || true
+    rm -rf "$WORK"
+  fi
+}
+trap cleanup EXIT
+git -C "$ROOT" worktree add --quiet --detach "$WORK/src" "$SHORT"
+python3 "$ROOT/scripts/mc_rule_benchmarks.py" patch "$ROOT/workflow/rules" "$WORK/src/workflow/rules" "${RULES[@]}"
+
+export PYFRUSTRATE_VENV="${MC_BENCH_VENV:-$WORK/venv}"
+cd "$WORK/src"
+bash scripts/setup.sh
+echo "[mc_rule_benchmarks] $SHORT, $PROFILE profile: the Monte Carlo jobs"
+"$PYFRUSTRATE_VENV/bin/snakemake" -n --quiet rules "${CONFIG[@]}" --until "${RULES[@]}"
+"$PYFRUSTRATE_VENV/bin/snakemake" --cores "${CORES:-1}" "${CONFIG[@]}" --until "${RULES[@]}"
+python3 "$ROOT/scripts/mc_rule_benchmarks.py" table results/benchmarks "$OUT" --commit "$SHORT" --profile "$PROFILE" \
+  "${RULES[@]}"
