@@ -10,14 +10,16 @@
 # (~5 h). A commit from before the rules had their `benchmark:` directives gets this checkout's.
 # OUT defaults to results/benchmarks/mc_rules_<profile>_<commit>.csv. CORES (default 1) jobs run
 # side by side; MC_BENCH_VENV reuses a virtual environment (else a temporary one, built ~3 min);
-# KEEP=1 keeps the temporary worktree (its results/ hold every run's output and log).
+# MC_RULES (space-separated) replaces the rule list; KEEP=1 keeps the temporary worktree (its results/ hold every run's output and log).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 COMMIT="${1:?usage: mc_rule_benchmarks.sh COMMIT [quick|paper] [OUT.csv]}"
 PROFILE="${2:-quick}"
 SHORT="$(git -C "$ROOT" rev-parse --short "$COMMIT^{commit}")"
 OUT="$(realpath -m "${3:-$ROOT/results/benchmarks/mc_rules_${PROFILE}_${SHORT}.csv}")"
-RULES=(montecarlo_run triangle_montecarlo_run)
+# The rules both sides of the redesign have; MC_RULES names others (e.g. the fixed-size
+# validation's montecarlo_validation_point, _sample and _two_sided, which have directives too).
+read -r -a RULES <<< "${MC_RULES:-montecarlo_run triangle_montecarlo_run}"
 case "$PROFILE" in
   quick) CONFIG=() ;;
   paper) CONFIG=(--configfile config/paper.yaml) ;;

@@ -166,6 +166,8 @@ rule montecarlo_validation_point:
         "../envs/pyfrustrate.yaml"
     log:
         "results/logs/montecarlo/validation_{scan}_nu{nu}_G{Gamma}.log",
+    benchmark:
+        "results/benchmarks/montecarlo_validation_point/{scan}_nu{nu}_G{Gamma}.tsv"
     script:
         "../scripts/montecarlo_validation_point.py"
 
@@ -189,6 +191,8 @@ rule montecarlo_validation_sample:
         "../envs/pyfrustrate.yaml"
     log:
         "results/logs/montecarlo/validation_{scan}_nu{nu}_G{Gamma}_size{index}_seed{seed}.log",
+    benchmark:
+        "results/benchmarks/montecarlo_validation_sample/{scan}_nu{nu}_G{Gamma}_size{index}_seed{seed}.tsv"
     script:
         "../scripts/montecarlo_validation_sample.py"
 
@@ -211,6 +215,8 @@ rule montecarlo_validation_two_sided:
         "../envs/pyfrustrate.yaml"
     log:
         "results/logs/montecarlo/validation_{scan}_nu{nu}_G{Gamma}_two_sided_seed{seed}.log",
+    benchmark:
+        "results/benchmarks/montecarlo_validation_two_sided/{scan}_nu{nu}_G{Gamma}_two_sided_seed{seed}.tsv"
     script:
         "../scripts/montecarlo_validation_two_sided.py"
 
