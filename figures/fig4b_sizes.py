@@ -5,11 +5,9 @@ its median W*/W*_continuum (R*/R*_continuum) over the Gamma grid, with the quart
 beside the figure (the rule's summary output) gives the ell range over which the median is
 within COLLAPSE_TOLERANCE of 1.
 
-Measured on the default profile (ell = 1, 2.5, 5, 10): fibres 1.34, 1.06, 1.02, 1.02, so the
-collapse holds within 10 % for ell >= 2.5 but not at ell = 1, where the fibres, one to four
-lattice spacings wide, sit above the continuum at every Gamma (by 3 % to a factor 2, a third in
-the median); disks 1.06, 1.05, 1.04, 1.05, within 10 % down to ell = 1 in the median (quartiles
-0.91-1.21 there: the radius moves in steps)."""
+The medians themselves are not written here: they are measured at each build and printed in
+the legend and the summary file (on the quick profile the fibres at ell = 1, one to four lattice
+spacings wide, are the ones that sit above the continuum)."""
 import numpy as np
 
 from pyfrustrate import plotting
