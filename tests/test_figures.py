@@ -212,6 +212,29 @@ def test_gallery_fills_captions_from_the_profile_that_made_the_figure():
     assert "not equilibrated" not in gallery.rendered_caption(caption, ROOT, "paper")
 
 
+def test_gallery_shows_a_rule_summary_as_written(tmp_path):
+    """A rule's summary sentence reaches the gallery page as its own text: the characters that are
+    reStructuredText markup (``W*``, ``n_mc``, ``|``, backquotes) are escaped, line breaks joined,
+    so docutils renders the sentence verbatim and without a warning."""
+    import json
+
+    import docutils.core
+
+    gallery = _gallery()
+    sentence = "W*_mc = 4 | n_mc in [12, 15] for `seed` 1, *all* 3 seeds <ok>\nsecond line_"
+    path = tmp_path / "figX_summary.json"
+    path.write_text(json.dumps({"summary": sentence}))
+    rest = f"| **In numbers:** {gallery.generated_summary(path)}\n"
+    tree = docutils.core.publish_doctree(rest, settings_overrides={"report_level": 5, "warning_stream": False})
+    warnings = [node for node in tree.findall() if node.tagname == "system_message"]
+    assert not warnings
+    assert tree.astext() == "In numbers: " + " ".join(sentence.split())
+    # Unescaped, the same sentence does not come through as written.
+    raw = docutils.core.publish_doctree(f"| **In numbers:** {sentence}\n",
+                                        settings_overrides={"report_level": 5, "warning_stream": False})
+    assert raw.astext() != "In numbers: " + " ".join(sentence.split())
+
+
 @pytest.mark.parametrize("profile", ["quick", "paper"])
 def test_figure_records_the_profile_the_gallery_shows(tmp_path, profile):
     """A figure rule passes the configuration's profile as a param; the figure's provenance
