@@ -296,6 +296,28 @@ def test_classifier_calls_two_fused_disks_a_fibre():
     assert kind == "fiber"
 
 
+def test_mc_diagram_summary_explains_exactly_the_fused_runs_within_the_criterion():
+    """figX_mc_diagram's generated summary speaks of a run called a fibre where the best single
+    aggregate is compact only when it is within the criterion, and says "reads that shape" only when
+    the run lies below that aggregate (otherwise the marker could be a wrong prediction)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("figX_mc_diagram", ROOT / "figures" / "figX_mc_diagram.py")
+    figure = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(figure)
+    from pyfrustrate.ground_states import EQUILIBRATED_GAP
+
+    within, above = 0.5 * EQUILIBRATED_GAP, 2.0 * EQUILIBRATED_GAP
+    mc = {"nu": np.array([0.2, 0.5, 0.8, 0.9]), "Gamma": np.array([0.2, 0.3, 0.4, 0.5]),
+          "kind": np.array(["fiber", "fiber", "fiber", "disk"]), "single_kind": np.array(["disk"] * 4),
+          "gap": np.array([-3.0, 1.0, -2.0, -1.0]), "gap_ground": np.array([within, within, above, within]),
+          "ground_family": np.array(["aggregates2", "single", "single", "single"])}
+    lines = figure.fused_runs_explained(mc, 200)
+    assert len(lines) == 2
+    assert "ν = 0.2, Γ = 0.2" in lines[0] and "2 separate aggregates" in lines[0] and "reads that shape" in lines[0]
+    assert "ν = 0.5, Γ = 0.3" in lines[1] and "one aggregate" in lines[1] and "reads that shape" not in lines[1]
+
+
 def test_colour_ramps_start_at_a_visible_tint():
     """The smallest size in a phase diagram still reads as its phase, not as the white page."""
     from matplotlib.colors import to_rgb
