@@ -29,7 +29,15 @@ case "$PROFILE" in
   *) echo "mc_rule_benchmarks: profile must be quick or paper, got '$PROFILE'" >&2; exit 2 ;;
 esac
 
-WORK="$(mktemp -d "${TMPDIR:-/tmp}/mc-rule-benchmarks.XXXXXX")"
+# MC_BENCH_WORK=DIR works in DIR and keeps it: the same command run again resumes there (Snakemake
+# redoes only the jobs that did not finish), for a paper-profile measurement longer than one sitting.
+if [ -n "${MC_BENCH_WORK:-}" ]; then
+  WORK="$(realpath -m "$MC_BENCH_WORK")"
+  mkdir -p "$WORK"
+  KEEP=1
+else
+  WORK="$(mktemp -d "${TMPDIR:-/tmp}/mc-rule-benchmarks.XXXXXX")"
+fi
 cleanup() {
   if [ "${KEEP:-0}" = 1 ]; then
     echo "[mc_rule_benchmarks] kept $WORK"
@@ -39,7 +47,14 @@ cleanup() {
   fi
 }
 trap cleanup EXIT
-git -C "$ROOT" worktree add --quiet --detach "$WORK/src" "$SHORT"
+if [ -d "$WORK/src" ]; then
+  [ "$(git -C "$WORK/src" rev-parse --short HEAD)" = "$SHORT" ] \
+    || { echo "mc_rule_benchmarks: $WORK/src holds another commit than $SHORT" >&2; exit 2; }
+  echo "[mc_rule_benchmarks] resuming in $WORK"
+  rm -rf "$WORK/src/.snakemake/locks"  # left by a run killed hard; this directory is this script's alone
+else
+  git -C "$ROOT" worktree add --quiet --detach "$WORK/src" "$SHORT"
+fi
 python3 "$ROOT/scripts/mc_rule_benchmarks.py" patch "$ROOT/workflow/rules" "$WORK/src/workflow/rules" "${RULES[@]}"
 
 export PYFRUSTRATE_VENV="${MC_BENCH_VENV:-$WORK/venv}"
@@ -54,11 +69,11 @@ if [ -n "${MC_SAMPLE:-}" ]; then
   mapfile -t TARGETS < "$WORK/targets.txt"
   mapfile -t PLANNED < "$WORK/planned.txt"
   echo "[mc_rule_benchmarks] a sample of ${#TARGETS[@]} jobs (every ${MC_SAMPLE}th; in the profile: ${PLANNED[*]})"
-  "$PYFRUSTRATE_VENV/bin/snakemake" --cores "${CORES:-1}" "${CONFIG[@]}" "${TARGETS[@]}"
+  "$PYFRUSTRATE_VENV/bin/snakemake" --cores "${CORES:-1}" --rerun-incomplete "${CONFIG[@]}" "${TARGETS[@]}"
   PLANNED=(--planned "${PLANNED[@]}")
 else
   "$PYFRUSTRATE_VENV/bin/snakemake" -n --quiet rules "${CONFIG[@]}" --until "${RULES[@]}"
-  "$PYFRUSTRATE_VENV/bin/snakemake" --cores "${CORES:-1}" "${CONFIG[@]}" --until "${RULES[@]}"
+  "$PYFRUSTRATE_VENV/bin/snakemake" --cores "${CORES:-1}" --rerun-incomplete "${CONFIG[@]}" --until "${RULES[@]}"
 fi
 python3 "$ROOT/scripts/mc_rule_benchmarks.py" table results/benchmarks "$OUT" --commit "$SHORT" --profile "$PROFILE" \
   "${PLANNED[@]}" "${RULES[@]}"
