@@ -13,7 +13,6 @@
 from __future__ import annotations
 
 import json
-import runpy
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +21,7 @@ import pytest
 matplotlib = pytest.importorskip("matplotlib")
 
 from pyfrustrate import plotting  # noqa: E402
+from script_jobs import Named, run_script  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 BUILT = sorted((ROOT / "results" / "figures").glob("*.png"))
@@ -114,37 +114,10 @@ def test_figure_refuses_a_width_between_columns():
         plotting.figure(plotting.PAGE_WIDTH_CM, 24.0)
 
 
-class _Named(list):
-    """A Snakemake name list: positional items, some also by name."""
-
-    def __init__(self, items=(), **named):
-        super().__init__(list(items) + list(named.values()))
-        self.__dict__.update(named)
-
-
-class _Params(dict):
-    """Snakemake params or wildcards: by key and by attribute."""
-
-    __getattr__ = dict.__getitem__
-
-
-class _Job:
-    """The ``snakemake`` object a rule's script sees."""
-
-    def __init__(self, rule, inputs, outputs, log, params):
-        self.rule, self.input, self.output, self.log = rule, inputs, outputs, _Named([str(log)])
-        self.params, self.wildcards = _Params(params), _Params()
-
-
-def _run(script: str, rule: str, tmp_path: Path, inputs: _Named, outputs: _Named, params=None):
-    job = _Job(rule, inputs, outputs, tmp_path / f"{rule}.log", params or {})
-    runpy.run_path(str(ROOT / script), init_globals={"snakemake": job}, run_name="__snakemake__")
-
-
 def _drawn(tmp_path, name, script, inputs, params=None):
     """Draw ``script`` on ``inputs``; return the findings stored in its PNG and its page size (cm)."""
     png, pdf = tmp_path / f"{name}.png", tmp_path / f"{name}.pdf"
-    _run(script, name, tmp_path, inputs, _Named(pdf=str(pdf), png=str(png)), params)
+    run_script(script, name, tmp_path, inputs, Named(pdf=str(pdf), png=str(png)), params)
     return _stored_check(png)
 
 
@@ -169,16 +142,16 @@ def test_fig1_drawn_from_scratch(tmp_path):
     data = tmp_path / "profiles.npz"
     params = dict(n=40, k=1.0, eps=0.01, profile_kc_over_k=[0.5, 0.05, 0.005], drawing_kc_over_k=0.1,
                   drawing_n=12, drawing_eps=0.12, scan_kc_over_k_min=1e-3, scan_kc_over_k_max=1.0, scan_count=5)
-    _run("workflow/scripts/chain_profiles.py", "chain_profiles", tmp_path, _Named([str(data)]), _Named([str(data)]),
+    run_script("workflow/scripts/chain_profiles.py", "chain_profiles", tmp_path, Named([str(data)]), Named([str(data)]),
          params)
-    problems, size_cm = _drawn(tmp_path, "fig1_chain", "figures/fig1_chain.py", _Named([str(data)]))
+    problems, size_cm = _drawn(tmp_path, "fig1_chain", "figures/fig1_chain.py", Named([str(data)]))
     assert problems == []
     _assert_print_size(size_cm)
 
 
 def test_figS4_drawn_from_scratch(tmp_path):
     """Fig. S4 computes its own inputs (the pseudo-moduli of a simple particle)."""
-    problems, size_cm = _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", _Named())
+    problems, size_cm = _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", Named())
     assert problems == []
     _assert_print_size(size_cm)
 
@@ -241,7 +214,7 @@ def test_figure_records_the_profile_the_gallery_shows(tmp_path, profile):
     records it, and the documentation's gallery reads it back from the PNG."""
     from pyfrustrate.io import read_provenance
 
-    _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", _Named(), dict(profile=profile))
+    _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", Named(), dict(profile=profile))
     record = read_provenance(tmp_path / "figS4_pseudo_moduli.png")
     assert record["parameters"]["profile"] == profile
     assert record["rule"] == "figS4_pseudo_moduli"
@@ -254,8 +227,8 @@ def test_continuum_diagram_drawn_from_scratch(tmp_path):
     """Fig. 3a's panel, at its size in Fig. 3, on a coarse continuum diagram computed here."""
     data = tmp_path / "phase_diagram.npz"
     params = dict(nu_count=41, Gamma_max=1.6, Gamma_count=65)
-    _run("workflow/scripts/continuum_phase_diagram.py", "continuum_phase_diagram", tmp_path, _Named(),
-         _Named([str(data)]), params)
+    run_script("workflow/scripts/continuum_phase_diagram.py", "continuum_phase_diagram", tmp_path, Named(),
+         Named([str(data)]), params)
     from pyfrustrate.io import load_npz
 
     fig = plotting.figure(plotting.COLUMN_WIDTH_CM, 7.0)
