@@ -39,14 +39,15 @@ def draw_two_sided(ax, checks, colors):
             ax.plot(x + dx, value, SEED_MARKERS[k % len(SEED_MARKERS)] if kept else "x", ms=4,
                     color=color, mec=color if kept else "#b2182b")
     ax.axhline(0.0, color="0.4", lw=0.6)
-    ax.set_yscale("symlog", linthresh=1.0)
+    low, high = ax.get_ylim()
+    ax.set_ylim(min(low, -0.1 * high), max(high, 1.0) * 1.15)  # zero, the line a failure would cross, in view
     ax.set_xticks(range(len(checks)))
     ax.set_xticklabels([f"{SHORT_STATE.get(c['predicted_state'], c['predicted_state'])} vs\n"
                         f"{SHORT_STATE.get(c['competitor_state'], c['competitor_state'])}\n"
                         rf"$\nu$ = {c['nu']:g}" for c in checks])
     ax.set_xlim(-0.5, max(len(checks), 1) - 0.5)
     ax.set_ylabel(r"$(E_{\rm competitor} - E_{\rm predicted})\,/\,g$")
-    ax.set_title("two-sided checks (predicted vs competitor)")
+    ax.set_title("two-sided checks")
 
 
 def main(validation_path, point_paths, outputs, provenance=None):
