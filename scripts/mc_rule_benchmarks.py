@@ -8,10 +8,11 @@ Two commands, used by ``scripts/mc_rule_benchmarks.sh``:
     none, so that a commit from before the directives is timed the same way.
 
 ``sample DRY_RUN_OUTPUT EVERY RULE...``
-    The output files of the named rules' jobs in a ``snakemake -n`` listing, sorted, every
-    ``EVERY``-th printed (from the first), one per line; on standard error, each rule's job count,
-    as ``RULE=COUNT`` lines, for ``table --planned``. A deterministic sample, the same at every
-    commit whose rules name their outputs alike, so that two commits are timed on the same jobs.
+    The output files of the named rules' jobs in a ``snakemake -n`` listing whose CRC-32 is a
+    multiple of ``EVERY`` (about one in ``EVERY``), sorted, one per line; on standard error, each
+    rule's job count, as ``RULE=COUNT`` lines, for ``table --planned``. The choice depends on a
+    job's output path alone, so two commits whose rules name their outputs alike run the same
+    jobs even where their profiles differ by a few jobs.
 
 ``table BENCHMARK_DIR OUT_CSV --commit C --profile P [--planned RULE=COUNT ...] RULE...``
     One row per rule from ``BENCHMARK_DIR/RULE/*.tsv`` (one file per job): jobs, total and
@@ -33,6 +34,7 @@ import re
 import statistics
 import sys
 import tempfile
+import zlib
 from pathlib import Path
 
 _RULE = re.compile(r"^rule (\w+):\s*$")
@@ -105,8 +107,8 @@ _DRY_RUN_OUTPUT = re.compile(r"^    output: (.+)$")
 
 
 def sample(dry_run: Path, every: int, rules: list[str]) -> tuple[list[str], dict[str, int]]:
-    """Every ``every``-th output (sorted) of the named rules' jobs in a ``snakemake -n`` listing,
-    and each rule's job count."""
+    """The outputs of the named rules' jobs in a ``snakemake -n`` listing whose CRC-32 is a multiple
+    of ``every``, sorted, and each rule's job count."""
     if every < 1:
         sys.exit(f"sample: EVERY must be a positive integer, got {every}")
     outputs = {rule: [] for rule in rules}
@@ -120,7 +122,7 @@ def sample(dry_run: Path, every: int, rules: list[str]) -> tuple[list[str], dict
         if output and current in outputs:
             outputs[current].append(output.group(1).split(", ")[0])
             current = None
-    chosen = sorted(path for paths in outputs.values() for path in paths)[::every]
+    chosen = sorted(path for paths in outputs.values() for path in paths if zlib.crc32(path.encode()) % every == 0)
     return chosen, {rule: len(paths) for rule, paths in outputs.items()}
 
 

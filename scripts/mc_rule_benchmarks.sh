@@ -11,8 +11,8 @@
 # OUT defaults to results/benchmarks/mc_rules_<profile>_<commit>.csv. CORES (default 1) jobs run
 # side by side; MC_BENCH_VENV reuses a virtual environment (else a temporary one, built ~3 min);
 # MC_RULES (space-separated) replaces the rule list; KEEP=1 keeps the temporary worktree (its results/ hold every run's output and log).
-# MC_SAMPLE=K runs every K-th of the rules' jobs (sorted by output file, so two commits run the same
-# jobs) and adds the profile's job count and the estimated total to the table: the paper profile's
+# MC_SAMPLE=K runs about one in K of the rules' jobs (chosen by a checksum of the output path, so two
+# commits run the same jobs) and adds the profile's job count and the estimated total to the table: the paper profile's
 # Monte Carlo is ~12 h of CPU per commit, a sample of 1 in 8 about 1.5 h.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -68,7 +68,7 @@ if [ -n "${MC_SAMPLE:-}" ]; then
     > "$WORK/targets.txt" 2> "$WORK/planned.txt"
   mapfile -t TARGETS < "$WORK/targets.txt"
   mapfile -t PLANNED < "$WORK/planned.txt"
-  echo "[mc_rule_benchmarks] a sample of ${#TARGETS[@]} jobs (every ${MC_SAMPLE}th; in the profile: ${PLANNED[*]})"
+  echo "[mc_rule_benchmarks] a sample of ${#TARGETS[@]} jobs (about 1 in ${MC_SAMPLE}; in the profile: ${PLANNED[*]})"
   # The targets first: --configfile takes every word after it.
   "$PYFRUSTRATE_VENV/bin/snakemake" "${TARGETS[@]}" --cores "${CORES:-1}" --rerun-incomplete "${CONFIG[@]}"
   PLANNED=(--planned "${PLANNED[@]}")

@@ -28,16 +28,27 @@ rule montecarlo_run:
 """
 
 
-def test_sample_takes_every_kth_output_of_the_named_rules_only(tmp_path):
+def test_sample_takes_the_outputs_of_the_named_rules_only_by_their_paths(tmp_path):
+    import zlib
+
     listing = tmp_path / "dry_run.txt"
     listing.write_text(DRY_RUN)
-    every_job, counts = bench.sample(listing, 1, ["montecarlo_run", "triangle_montecarlo_run"])
+    rules = ["montecarlo_run", "triangle_montecarlo_run"]
+    every_job, counts = bench.sample(listing, 1, rules)
     assert counts == {"montecarlo_run": 3, "triangle_montecarlo_run": 1}
     assert "results/ansatz/catalogue.npz" not in every_job  # an upstream rule's output is not a job to time
     assert every_job == sorted(every_job) and len(every_job) == 4
     assert all(path.endswith(".npz") for path in every_job)  # a job's first output names it
-    half, _ = bench.sample(listing, 2, ["montecarlo_run", "triangle_montecarlo_run"])
-    assert half == every_job[::2]
+    for every in (2, 3):
+        chosen, _ = bench.sample(listing, every, rules)
+        assert chosen == [p for p in every_job if zlib.crc32(p.encode()) % every == 0]
+    # Another commit's listing with one job more chooses the same jobs among those they share.
+    extra = tmp_path / "other.txt"
+    extra.write_text(DRY_RUN + "rule montecarlo_run:\n    output: results/montecarlo/runs/new_job.npz\n")
+    for every in (2, 3):
+        here, _ = bench.sample(listing, every, rules)
+        there, _ = bench.sample(extra, every, rules)
+        assert [p for p in there if p != "results/montecarlo/runs/new_job.npz"] == here
 
 
 def _benchmark_file(directory: Path, name: str, cpu: float, seconds: float, rss: float):
