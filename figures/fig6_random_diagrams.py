@@ -37,7 +37,7 @@ def main(paths, edges, outputs, provenance=None):
     line_nu = np.linspace(-0.99, 1.0, 400)
     lines = continuum.critical_line_tensions(line_nu)
     cmap = ListedColormap([plotting.PHASE_COLORS[p] for p in rp.PHASE_CODES])
-    width_cm, height_cm = plotting.PAGE_WIDTH_CM, 7.7  # room for three-line titles under the legend
+    width_cm, height_cm = plotting.PAGE_WIDTH_CM, 7.3  # room for two-line titles under the legend
     fig = plotting.figure(width_cm, height_cm)
     panel_w, gap = 4.2, 0.4
     axes = [fig.add_axes([(1.45 + i * (panel_w + gap)) / width_cm, 1.1 / height_cm, panel_w / width_cm, 4.9 / height_cm])
@@ -71,8 +71,7 @@ def main(paths, edges, outputs, provenance=None):
         hi = "\\infty" if edges[i + 1] > 1e6 else f"{edges[i + 1]:g}"
         # The median in the title, not on the panel, where it would cover the phases.
         ax.set_title(rf"$\ell \in [{edges[i]:g}, {hi})$, {len(nu)} particles" "\n"
-                     rf"median $\Gamma_\mathrm{{max}}$ = {median:.2f}"
-                     + (f"\n{100 * beyond:.0f} % bind beyond the axis" if beyond > 0 else ""))
+                     rf"median $\Gamma_\mathrm{{max}}$ {median:.2f}; {100 * beyond:.0f} % > {G[-1]:g}")  # every title on two lines: the panels align
         ax.set_xlim(0, G[-1])
         ax.set_xticks([0, 0.5, 1, 1.5, 2, 5, 10, 20, 50], ["0", "", "1", "", "2", "5", "10", "20", ""])  # 50 would touch the next panel's 0
         ax.set_ylim(-1, 1)
