@@ -27,12 +27,14 @@ def main(summary_path, selection_path, edges, outputs, provenance=None):
         ax.axvline(edge, color="0.6", lw=0.6, ls=":")
     ax.set_xlabel(r"boundary-layer length $\ell$")
     ax.set_ylabel("probability density")
-    ax.set_title(f"{int(s['draws']):,} random matrices")
+    # The density stops at the last bin edge; the title says how much of the sample lies beyond.
+    ax.set_title(f"{int(s['draws']):,} random matrices\n"
+                 rf"{100 * float(s['ell_beyond']):.2g} % with $\ell$ > {e[-1]:g} (not drawn)")
     plotting.panel_label(ax, "a", at_cm=(0.15, height_cm - 0.1))
     # (b) one panel per ell group, on one density scale: the whole drawn population of the group
     # (shaded) and the particles selected from it for Fig. 6 (black), near-uniform where the
     # population allows.
-    colors = ["#1b9e77", "#d95f02", "#7570b3", "#e7298a"]
+    drawn = "0.55"  # one neutral shade: each panel is one group, and colours mean phases elsewhere
     bins = np.linspace(-1, 1, 21)
     groups = len(edges) - 1
     left, gap = 7.0, 0.45
@@ -43,9 +45,9 @@ def main(summary_path, selection_path, edges, outputs, provenance=None):
         ax = fig.add_axes(rect(left + i * (panel_w + gap), 1.1, panel_w, 4.2))
         nu = sel[f"group{i}_nu"]
         hi = "\\infty" if edges[i + 1] > 1e6 else f"{edges[i + 1]:g}"
-        ax.stairs(s[f"group{i}_nu_density"], s["nu_edges"], color=colors[i % 4], lw=0.8, fill=True, alpha=0.35,
+        ax.stairs(s[f"group{i}_nu_density"], s["nu_edges"], color=drawn, lw=0.8, fill=True, alpha=0.35,
                   label="all drawn")
-        ax.stairs(s[f"group{i}_nu_density"], s["nu_edges"], color=colors[i % 4], lw=0.8)
+        ax.stairs(s[f"group{i}_nu_density"], s["nu_edges"], color=drawn, lw=0.8)
         ax.stairs(np.histogram(nu, bins, density=True)[0], bins, color="k", lw=1.2, label="selected")
         ax.set_ylim(0, 1.3 * top)
         ax.set_xlim(-1, 1)
