@@ -45,6 +45,9 @@ def main(summary_path, outputs, provenance=None):
     plotting.panel_label(ax, "b")
     for label, ((x0, x1), (y0, y1), left) in zip("ac", CLOSE_UPS):
         ax.add_patch(plt.Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, color="k", lw=0.8))
+        # Which close-up each frame is, at the frame's top corner (above it, off the data).
+        ax.annotate(label, (x0, y1), xytext=(1, 1), textcoords="offset points", ha="left", va="bottom",
+                    fontweight="bold")
         sub = fig.add_axes(rect(left, 4.2))
         inside = ok & (eig > x0) & (eig < x1) & (ell > y0) & (ell < y1)
         sub.hexbin(eig[inside], ell[inside], gridsize=30, bins="log", cmap="Greys", mincnt=1, linewidths=0,
