@@ -161,3 +161,79 @@ def test_bad_input_is_refused():
         mc.run(np.array([0.1]), np.array([10]))
     with pytest.raises(ValueError, match="n must be at least 1"):
         kernel_mc(particle, g, 5, 0, 0, outline_moves=0.5)
+
+
+# --------------------------------------------------------------------------------------------
+# pyfrustrate.montecarlo.grand_canonical
+# --------------------------------------------------------------------------------------------
+
+from pyfrustrate.montecarlo import binding, fixed_size  # noqa: E402
+from pyfrustrate.montecarlo import grand_canonical as gc  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def fibre_point():
+    """The fibre point of the validation (nu = 0.9, Gamma = 0.5, ell = 5) and its ansatz's
+    threshold min_W e(W)."""
+    particle = Hexagon.from_continuum(ell=5, nu=0.9, eps=0.01)
+    g = binding(particle, Gamma=0.5)
+    _, e = fixed_size.best_straight_fibre(particle, g, max_width=12)
+    return particle, g, float(e.min())
+
+
+def test_threshold_width_interpolates_the_crossing():
+    """gap = e - mu linear in mu, crossing 0 at mu = -2.2 between the 2nd and 3rd points."""
+    mu = np.array([-3.0, -2.5, -2.0, -1.5])
+    e = -2.2 + 0.1 * (mu + 2.2)  # gap = -0.9 (mu + 2.2)
+    W, mu_star = gc.threshold_width(mu, [5.0, 8.0, 12.0, 20.0], e)
+    assert mu_star == pytest.approx(-2.2)
+    assert W == pytest.approx(8.0 + (0.3 / 0.5) * 4.0)
+    assert all(np.isnan(gc.threshold_width(mu, [1.0] * 4, mu - 1.0)))  # always above: no crossing
+    with pytest.raises(ValueError, match="increasing"):
+        gc.threshold_width(mu[::-1], [1.0] * 4, e)
+    with pytest.raises(ValueError, match="one length"):
+        gc.threshold_width(mu, [1.0] * 3, e)
+
+
+def test_grand_options_refuse_bad_values():
+    with pytest.raises(ValueError, match="chemical_potential"):
+        gc.grand_options(float("nan"))
+    with pytest.raises(ValueError, match="outline_moves"):
+        gc.grand_options(-1.0, outline_moves=0.0)
+
+
+def test_the_running_energy_follows_insertions_and_deletions_with_warm_starts(fibre_point):
+    """Newton with warm starts and parent factors (the path of the workflow's runs): after many
+    accepted insertions and deletions, the chain's running energy is the energy of the fibre it
+    holds, recomputed from scratch."""
+    particle, g, threshold = fibre_point
+    options = gc.grand_options(threshold, method="newton", tol=1e-8, outline_moves=0.5, parent_factor=True)
+    chain = fixed_size._seeded_chain(particle, fixed_size.fibre_seed(10, 3), 10, 4, g, options)
+    chain.run(np.full(60, 0.5 * g), np.full(60, 30, dtype=np.int64))
+    assert chain.options["parent_start"] and chain.options["parent_factor"]
+    counters = chain.counters
+    assert counters["outline_inserted"] + counters["outline_removed"] > 20, counters
+    assert chain.n == 30 + counters["outline_inserted"] - counters["outline_removed"]
+    assert chain.energy == pytest.approx(chain.box_energy(True), abs=1e-6 * g)
+
+
+@pytest.mark.parametrize("offset, grows", [(-0.5, False), (0.5, True)])
+def test_a_fibre_shrinks_below_the_threshold_and_grows_above(fibre_point, offset, grows):
+    """Half a bond per particle below min_W e(W) the grand potential L W (e - mu) of every fibre
+    is positive and the fibre loses particles; half a bond above it gains them."""
+    particle, g, threshold = fibre_point
+    sample = gc.hold_fibre(particle, 12, 4, 2, g=g, mu=threshold + offset * g, T=0.3 * g, sweeps=30,
+                           options=gc.grand_options(threshold + offset * g, method="newton", tol=1e-3))
+    assert sample.W_mean == pytest.approx(sample.n_mean / 12)
+    assert sample.n[-1] == 48 + sample.counters["outline_inserted"] - sample.counters["outline_removed"]
+    assert (sample.n[-1] > 48) == grows and sample.n[-1] != 48, sample.n
+
+
+def test_hold_fibre_refuses_bad_input(fibre_point):
+    particle, g, threshold = fibre_point
+    with pytest.raises(ValueError, match="chemical_potential = mu"):
+        gc.hold_fibre(particle, 12, 4, 0, g=g, mu=threshold, T=0.1, sweeps=2, options=gc.grand_options(0.0))
+    with pytest.raises(ValueError, match="T"):
+        gc.hold_fibre(particle, 12, 4, 0, g=g, mu=threshold, T=-1.0, sweeps=2)
+    with pytest.raises(ValueError, match="equilibration"):
+        gc.hold_fibre(particle, 12, 4, 0, g=g, mu=threshold, T=0.1, sweeps=2, equilibration=1.0)
