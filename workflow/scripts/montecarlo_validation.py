@@ -3,14 +3,16 @@ validation, W*_MC (fibres) or n*_MC (disks) per seed from the quenched samples' 
 (montecarlo.fixed_size.size_of_lowest_energy) against the ansatz's best straight fibre or best
 hexagonal disk and the continuum's optimum; the profile's scale; the wall time per sample and a
 power law of the time per attempted move against the particles, to estimate larger samples;
-the two-sided checks (item 4) at the disk points. large_runs (item 3) is an empty list until that
-item is done."""
+the two-sided checks (item 4) at the disk points; the grand-canonical samples (item 2), one record
+per temperature, chemical potential and seed, and W* per temperature and seed where <E>/<n> crosses
+mu (montecarlo.grand_canonical.threshold_width) against the ansatz's. large_runs (item 3) is an
+empty list until that item is done."""
 import json
 
 import numpy as np
 
 from pyfrustrate.io import logging_to, save_json
-from pyfrustrate.montecarlo import fixed_size
+from pyfrustrate.montecarlo import fixed_size, grand_canonical
 from pyfrustrate.provenance import for_job
 
 p = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
@@ -106,8 +108,32 @@ with logging_to(snakemake.log[0]):  # noqa: F821
                               persists=persists, competitor_not_below=not_below,
                               holds=all(persists) and all(not_below)))
         print(f"two-sided {key}: predicted {predicted}, competitor {competitor} (E/g), holds {two_sided[-1]['holds']}")
+    # Grand-canonical samples (item 2): <W>(mu) per temperature and seed, and W* where the scan
+    # crosses its threshold <E>/<n> = mu.
+    grand = sorted(map(load, snakemake.input.grand),  # noqa: F821
+                   key=lambda s: (s["T_over_g"], s["seed"], s["mu_over_g"]))
+    grand_canonical_records = [dict((k, s[k]) for k in (
+        "nu", "Gamma", "T_over_g", "mu_over_g", "mu_offset_over_g", "seed", "W_mean", "W_std", "n_mean", "n_std",
+        "energy_per_particle_over_g", "wraps", "seconds", "length")) | dict(W_end=s["W_trace"][-1]) for s in grand]
+    W_star = []
+    for T in sorted({s["T_over_g"] for s in grand}):
+        per_seed = []
+        for seed in sorted({s["seed"] for s in grand}):
+            scan = [s for s in grand if s["T_over_g"] == T and s["seed"] == seed]
+            W, mu = grand_canonical.threshold_width([s["mu_over_g"] for s in scan], [s["W_mean"] for s in scan],
+                                                    [s["energy_per_particle_over_g"] for s in scan])
+            per_seed.append((seed, W, mu))
+        found = [W for _, W, _ in per_seed if np.isfinite(W)]
+        W_star.append(dict(T_over_g=T, seeds=[s for s, _, _ in per_seed],
+                           W_star=[None if np.isnan(W) else round(W, 2) for _, W, _ in per_seed],
+                           mu_threshold_over_g=[None if np.isnan(mu) else round(mu, 4) for _, _, mu in per_seed],
+                           W_star_mean=round(float(np.mean(found)), 2) if found else None,
+                           W_star_spread=round(float(np.ptp(found)), 2) if found else None,
+                           W_ansatz=grand[0]["W_ansatz"], threshold_ansatz_over_g=grand[0]["threshold_over_g"]))
+        print(f"grand-canonical T = {T:g} g: W* per seed {W_star[-1]['W_star']} (ansatz {grand[0]['W_ansatz']})")
     save_json(snakemake.output[0], dict(  # noqa: F821
         points=records, scale=dict(p.scale), timing=timing, large_runs=[], two_sided=two_sided,
+        grand_canonical=grand_canonical_records, grand_canonical_W_star=W_star,
         pending="large_runs (issue 33 item 3) is not computed yet; two_sided covers the disk points only "
                 "(one disk against two), not a fibre point or one near the fibre-disk line"),
         provenance=for_job(snakemake))  # noqa: F821
