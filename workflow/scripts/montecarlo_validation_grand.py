@@ -26,6 +26,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     save_json(snakemake.output[0], dict(  # noqa: F821
         nu=p.nu, Gamma=p.Gamma, ell=p.ell, eps=p.eps, g=g, length=p.length, seed=p.seed, T_over_g=p.T_over_g,
         mu_offset_over_g=p.mu_offset_over_g, mu_over_g=mu / g, threshold_over_g=threshold / g, W_ansatz=W_ansatz,
+        fibre_energy_per_particle_over_g=(fibre_energy / g).tolist(),
         W_mean=sample.W_mean, W_std=sample.W_std, n_mean=sample.n_mean, n_std=sample.n_std,
         energy_per_particle_over_g=sample.energy_per_particle / g, W_trace=(sample.n / p.length).tolist(),
         wraps=sample.wraps, seconds=sample.seconds, sweeps=p.sweeps, equilibration=p.equilibration,
