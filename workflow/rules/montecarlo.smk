@@ -266,7 +266,7 @@ rule montecarlo_validation:
         estimate_particles=VALIDATION["estimate_particles"],
         # The profile's whole scale, recorded in the file (keys sorted: the same params whatever
         # the order of the configuration file).
-        scale=dict(sorted(dict(VALIDATION, ell=MC["ell"], eps=MC["eps"]).items())),
+        scale=dict(sorted(dict(VALIDATION, ell=MC["ell"], eps=MC["eps"], grand=dict(sorted(GRAND.items()))).items())),
     conda:
         "../envs/pyfrustrate.yaml"
     log:
