@@ -91,6 +91,19 @@ def test_enumeration_counts_every_connected_aggregate():
         assert sizes[k] == len(list(itertools.combinations(range(9), k)))
 
 
+def test_every_outline_move_has_its_reverse():
+    """Over every enumerated aggregate: a particle inserted on an outline site is removable
+    afterwards, and a removed particle's site is an outline site of what remains (so the
+    Hastings counts e and d are never zero where a move was made)."""
+    _, g, states, E = enumerated()
+    chain = ReferenceChain(states, E, g, BOX)
+    for state in map(set, states):
+        for b in chain._exposed(state)[1]:
+            assert b in chain._removable(state | {b})
+        for a in chain._removable(state):
+            assert a in chain._exposed(state - {a})[1]
+
+
 def test_the_sizes_spread():
     """Where the Hastings counts matter: every size holds at least 5 % of the weight."""
     _, g, states, E = enumerated()
