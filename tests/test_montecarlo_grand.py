@@ -242,6 +242,14 @@ def test_a_fibre_shrinks_below_the_threshold_and_grows_above(fibre_point, offset
     assert (sample.n[-1] > 48) == grows and sample.n[-1] != 48, sample.n
 
 
+def test_runs_of_fixed_n_refuse_outline_moves():
+    from pyfrustrate.montecarlo.options import chain_options
+    with pytest.raises(ValueError, match="outline_moves must be 0"):
+        chain_options(None, dict(outline_moves=0.2))
+    with pytest.raises(ValueError, match="outline_moves must be 0"):
+        chain_options(gc.grand_options(-1.0), {})
+
+
 def test_hold_fibre_refuses_bad_input(fibre_point):
     particle, g, threshold = fibre_point
     with pytest.raises(ValueError, match="chemical_potential = mu"):
