@@ -39,7 +39,10 @@ def grand_panels(axes, validation):
     row_energy = np.array(found[0]["ansatz_row_energy_over_g"]) - threshold
     widths = np.arange(1, row_energy.size + 1)
     offsets = np.array([s["mu_over_g"] for s in samples]) - threshold
-    shown = (row_energy >= offsets.min() - 0.05) & (row_energy <= offsets.max() + 0.05)
+    # The ansatz's widths over the scan's range of mu, up to a few rows beyond the widest sample
+    # (its last rows' energies crowd together as W grows).
+    widest = max(s["W_mean"] + s["W_std"] for s in samples)
+    shown = (row_energy >= offsets.min() - 0.05) & (row_energy <= offsets.max() + 0.05) & (widths <= widest + 6)
     ax_width.step(row_energy[shown], widths[shown], where="post", color="0.5", lw=1, label="ansatz, T = 0")
     ax_width.axhline(found[0]["W_ansatz"], color="0.5", lw=0.8, ls=":", label=f"ansatz W* = {found[0]['W_ansatz']}")
     temperatures = sorted({s["T_over_g"] for s in samples})
