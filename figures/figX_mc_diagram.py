@@ -70,6 +70,33 @@ def hollow_markers_explained(mc, n):
     return lines
 
 
+def structure_words(family) -> str:
+    """A box structure (``ground_states.FAMILIES``, ``aggregatesK`` with its count) in words."""
+    family = str(family)
+    if family.startswith("aggregates"):
+        return f"{family.removeprefix('aggregates') or 'several'} separate aggregates"
+    return {"single": "one aggregate", "wrapping_fiber": "a fibre wrapping the box", "gas": "the gas"}.get(family, family)
+
+
+def fused_runs_explained(mc, n):
+    """Caption lines on the runs within the criterion that the classifier calls fibres where the best
+    single aggregate of ``n`` is compact: their energy against the best single aggregate (``gap``)
+    and against the box's predicted ground state (``gap_ground``), which says whether the prediction
+    or the marker is at fault."""
+    fused = (mc["gap_ground"] <= EQUILIBRATED_GAP) & (mc["kind"] == "fiber") & (mc["single_kind"] != "fiber")
+    lines = []
+    for k in np.flatnonzero(fused):
+        below = mc["gap"][k] < 0
+        lines.append(
+            f"The run within the criterion at ν = {mc['nu'][k]:g}, Γ = {mc['Gamma'][k]:g} is called a fibre where the best "
+            f"single aggregate of {n} is compact (asterisk): it ends {abs(mc['gap'][k]):.1f} bulk particle energies "
+            f"{'below' if below else 'above'} that aggregate and {mc['gap_ground'][k]:.1f} above the box's predicted "
+            f"ground state, {structure_words(mc['ground_family'][k])}"
+            + (": below the best compact aggregate, so its shape is one that family lacks (such as disks fused by "
+               "necks) and the marker reads that shape, not a wrong prediction." if below else "."))
+    return lines
+
+
 def protocol(mc, n):
     """How the runs were made: annealing, then (montecarlo_run.py) low-temperature replica exchange."""
     rounds = np.asarray(mc.get("exchange_rounds", np.zeros(len(mc["Gamma"]))), int)
@@ -88,7 +115,7 @@ def summary(mc, n) -> str:
     same = int((mc["structure"] == mc["ground_family"]).sum())
     counts = (f"{within} of {len(mc['gap_ground'])} runs end within {EQUILIBRATED_GAP:g} bulk particle energies of "
               f"their box's predicted ground state; {same} in its structure. {protocol(mc, n)}.")
-    return " ".join([counts, *hollow_markers_explained(mc, n)])
+    return " ".join([counts, *fused_runs_explained(mc, n), *hollow_markers_explained(mc, n)])
 
 
 def main(mc_path, diagram_path, continuum_path, outputs, provenance=None, summary_path=None):

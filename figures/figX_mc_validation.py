@@ -4,9 +4,10 @@
 (a) Energy per particle including binding of the quenched fibres against their width W (markers,
 one per seed), relative to the ansatz's best straight fibre, with the ansatz's straight fibres
 (line) and its and the continuum's optimal widths (vertical lines). (b) The same for disks of n
-particles, the ansatz's compact hexagons as the line. (c) The two-sided check: final energies of
-the runs seeded as one disk (predicted) and as two (competitor), per seed, relative to the lowest
-predicted run. (d) Grand-canonical sampling of one fibre (outline moves): its mean width <W>
+particles, the ansatz's compact hexagons as the line. (c) The two-sided checks: per check, the final
+energy of the run seeded as the competitor minus that of the run seeded as the predicted state,
+per seed (markers as in (a)); a cross where the predicted state did not persist.
+(d) Grand-canonical sampling of one fibre (outline moves): its mean width <W>
 (bars: the spread of its fluctuations) against the chemical potential mu, relative to the ansatz's
 threshold min_W e(W), one marker per seed, a colour per temperature; the ansatz's width at T = 0
 (the width whose last row's energy is mu, steps), its W* (dotted) and the threshold (vertical);
@@ -26,6 +27,32 @@ SEED_MARKERS = ("o", "s", "^", "D", "v")
 def load(path):
     with open(path) as f:
         return json.load(f)
+
+
+SHORT_STATE = {"one disk": "disk", "two disks": "2 disks", "a fibre wrapping the box": "fibre"}
+
+
+def draw_two_sided(ax, checks, colors):
+    """One column per check: the competitor's final energy minus the predicted run's with the same
+    seed (above zero: the prediction holds on that side), a filled marker where the predicted
+    state persisted, a cross where it did not."""
+    for x, check in enumerate(checks):
+        color = colors.get(check["Gamma"], "0.3")
+        margin = np.array(check["competitor_energy_over_g"]) - np.array(check["predicted_energy_over_g"])
+        offsets = np.linspace(-0.15, 0.15, len(margin)) if len(margin) > 1 else np.zeros(1)
+        for k, (dx, value, kept) in enumerate(zip(offsets, margin, check["persists"])):
+            ax.plot(x + dx, value, SEED_MARKERS[k % len(SEED_MARKERS)] if kept else "x", ms=4,
+                    color=color, mec=color if kept else "#b2182b")
+    ax.axhline(0.0, color="0.4", lw=0.6)
+    low, high = ax.get_ylim()
+    ax.set_ylim(min(low, -0.1 * high), max(high, 1.0) * 1.15)  # zero, the line a failure would cross, in view
+    ax.set_xticks(range(len(checks)))
+    ax.set_xticklabels([f"{SHORT_STATE.get(c['predicted_state'], c['predicted_state'])} vs\n"
+                        f"{SHORT_STATE.get(c['competitor_state'], c['competitor_state'])}\n"
+                        rf"$\nu$ = {c['nu']:g}" for c in checks])
+    ax.set_xlim(-0.5, max(len(checks), 1) - 0.5)
+    ax.set_ylabel(r"$(E_{\rm competitor} - E_{\rm predicted})\,/\,g$")
+    ax.set_title("two-sided checks")
 
 
 def grand_panels(axes, validation):
@@ -122,26 +149,7 @@ def main(validation_path, point_paths, outputs, provenance=None):
         ax.legend(unique.values(), unique.keys(), loc="upper center", frameon=True, facecolor="w", edgecolor="none")
         low, high = ax.get_ylim()
         ax.set_ylim(min(low, 0), high + 1.0 * (high - min(low, 0)))  # room for the legend above the data
-    ax = axes[2]
-    for check in validation["two_sided"]:
-        color = colors.get(check["Gamma"], "0.3")
-        predicted = np.array(check["predicted_energy_over_g"])
-        competitor = np.array(check["competitor_energy_over_g"])
-        reference = predicted.min()
-        seeds = np.array(check["seeds"])
-        ax.plot(seeds - 0.1, predicted - reference, "o", color=color, ms=5,
-                label=rf"{check['predicted_state']} (predicted), $\Gamma$ = {check['Gamma']:g}")
-        ax.plot(seeds + 0.1, competitor - reference, "s", mfc="w", mec=color, ms=5,
-                label=f"{check['competitor_state']} (competitor)")
-        ax.set_xticks(seeds)
-    if validation["two_sided"]:
-        ax.legend(loc="upper center")
-        low, high = ax.get_ylim()
-        ax.set_ylim(min(low, 0), high + 0.6 * (high - min(low, 0)))
-    ax.set_xlabel("seed")
-    ax.set_ylabel(r"final $(E - E_{\rm best\ disk})\,/\,g$")
-    ax.set_title(f"two-sided check, n = {validation['two_sided'][0]['n']}" if validation["two_sided"] else
-                 "two-sided check")
+    draw_two_sided(axes[2], validation["two_sided"], colors)
     grand_panels(grand_axes, validation)
     for ax, letter in zip(axes + grand_axes, "abcde"):
         plotting.panel_label(ax, letter)

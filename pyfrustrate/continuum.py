@@ -35,7 +35,7 @@ dimensionless form. How ``gamma`` follows from ``g`` is a convention, chosen by 
 Routes between them: ``particle_parameters(ell, nu, Gamma, convention=...).g`` (``Gamma`` to
 ``g``), ``mapping(k, kc, k_area, g, eps, convention=...).Gamma`` (``g`` to ``Gamma``),
 ``line_tension`` and ``binding_energy`` (``g`` to ``gamma`` and back);
-``ansatz.binding_energy_of`` and ``random_particles.binding_energy`` take a particle and use
+``ansatz.binding_energy_of`` and ``random_particles.binding_energy_of`` take a particle and use
 the measured convention.
 """
 from __future__ import annotations

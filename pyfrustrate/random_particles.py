@@ -788,9 +788,13 @@ def select_uniform(values, count: int, bins, seed: int) -> np.ndarray:
 PHASE_CODES = ("bulk_with_holes", "disk", "fiber", "bulk")
 
 
-def binding_energy(particle, Gamma, ell: float, nu: float):
+def binding_energy_of(particle, ell: float, nu: float, Gamma):
     """Binding energy ``g`` per bound pair of sides giving line tension ``Gamma`` to a particle of
     boundary-layer length ``ell`` and Poisson ratio ``nu``.
+
+    The arguments come in the order of ``ansatz.binding_energy_of``; the two differ in ``e_bulk``:
+    this one measures it on the particle (a random particle has no continuum moduli to compute it
+    from), the ansatz's computes it from the particle's ``(k, eps)``.
 
     Main text ``Gamma = 2 gamma / ((1 + nu) ell e_bulk)`` with ``gamma = g`` (the measured
     convention, ``continuum``) and ``e_bulk`` the bulk deformation energy per unit reference area.
@@ -799,12 +803,12 @@ def binding_energy(particle, Gamma, ell: float, nu: float):
     ----------
     particle : RandomHexagon or Hexagon
         The particle model (its ``bulk_energy_per_particle``).
-    Gamma : array_like
-        Dimensionless line tension(s).
     ell : float
         Boundary-layer length, lattice spacings, positive and finite.
     nu : float
         Poisson ratio, in (-1, 1).
+    Gamma : array_like
+        Dimensionless line tension(s).
 
     Returns
     -------
@@ -906,7 +910,7 @@ def aggregation_line(particle, Gamma, ell: float, nu: float, candidates=None, me
     particle : RandomHexagon or Hexagon
         The particle model.
     Gamma : array_like
-        Line tensions (measured convention, ``binding_energy``).
+        Line tensions (measured convention, ``binding_energy_of``).
     ell, nu : float
         The particle's boundary-layer length (lattice spacings) and Poisson ratio.
     candidates : list of ansatz.Candidate, optional
@@ -939,8 +943,8 @@ def aggregation_line(particle, Gamma, ell: float, nu: float, candidates=None, me
     bulk = np.flatnonzero(energies.family == "bulk")[0]
     others = energies.bonds < energies.bonds[bulk]
     g_max = np.max((energies.deformation[bulk] - energies.deformation[others]) / (energies.bonds[bulk] - energies.bonds[others]))
-    Gamma_max = float(g_max / binding_energy(particle, 1.0, ell, nu))
-    g = binding_energy(particle, np.asarray(Gamma, float) * (Gamma_max if relative else 1.0), ell, nu)
+    Gamma_max = float(g_max / binding_energy_of(particle, ell, nu, 1.0))
+    g = binding_energy_of(particle, ell, nu, np.asarray(Gamma, float) * (Gamma_max if relative else 1.0))
     phase_of = np.array([PHASE_CODES.index(FAMILY_PHASE[f]) for f in energies.family])
     fibers = [f for f in set(energies.family.tolist()) if f.startswith("fiber")]
     best_fiber = energies.winners(g, fibers)

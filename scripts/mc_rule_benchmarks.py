@@ -7,11 +7,19 @@ Two commands, used by ``scripts/mc_rule_benchmarks.sh``:
     ``benchmark:`` directive the same rule has in ``RULES_DIR`` (this checkout's), where it has
     none, so that a commit from before the directives is timed the same way.
 
-``table BENCHMARK_DIR OUT_CSV --commit C --profile P RULE...``
+``sample DRY_RUN_OUTPUT EVERY RULE...``
+    The output files of the named rules' jobs in a ``snakemake -n`` listing, sorted, every
+    ``EVERY``-th printed (from the first), one per line; on standard error, each rule's job count,
+    as ``RULE=COUNT`` lines, for ``table --planned``. A deterministic sample, the same at every
+    commit whose rules name their outputs alike, so that two commits are timed on the same jobs.
+
+``table BENCHMARK_DIR OUT_CSV --commit C --profile P [--planned RULE=COUNT ...] RULE...``
     One row per rule from ``BENCHMARK_DIR/RULE/*.tsv`` (one file per job): jobs, total and
     median CPU seconds (Snakemake's ``cpu_time``, user + system of the job's processes), total
     wall seconds, largest resident set (MB); written atomically, its first line a ``#`` comment
-    saying what was measured (the documentation's ``measured`` role reads it).
+    saying what was measured (the documentation's ``measured`` role reads it). With
+    ``--planned`` (a sample of the jobs was run): the profile's job count per rule and the
+    estimated total, the sample's mean times that count.
 
 Standard library only: it runs with any Python, on any commit's results.
 """
@@ -92,7 +100,32 @@ def patch(rules_dir: Path, other_dir: Path, rules: list[str]) -> None:
         sys.exit(f"patch: no rule {', '.join(sorted(set(wanted) - found))} in {other_dir}")
 
 
-def table(benchmark_dir: Path, out: Path, commit: str, profile: str, rules: list[str]) -> None:
+_DRY_RUN_JOB = re.compile(r"^(?:local)?rule (\w+):\s*$")
+_DRY_RUN_OUTPUT = re.compile(r"^    output: (.+)$")
+
+
+def sample(dry_run: Path, every: int, rules: list[str]) -> tuple[list[str], dict[str, int]]:
+    """Every ``every``-th output (sorted) of the named rules' jobs in a ``snakemake -n`` listing,
+    and each rule's job count."""
+    if every < 1:
+        sys.exit(f"sample: EVERY must be a positive integer, got {every}")
+    outputs = {rule: [] for rule in rules}
+    current = None
+    for line in dry_run.read_text().splitlines():
+        job = _DRY_RUN_JOB.match(line)
+        if job:
+            current = job.group(1)
+            continue
+        output = _DRY_RUN_OUTPUT.match(line)
+        if output and current in outputs:
+            outputs[current].append(output.group(1).split(", ")[0])
+            current = None
+    chosen = sorted(path for paths in outputs.values() for path in paths)[::every]
+    return chosen, {rule: len(paths) for rule, paths in outputs.items()}
+
+
+def table(benchmark_dir: Path, out: Path, commit: str, profile: str, rules: list[str],
+          planned: dict[str, int] | None = None) -> None:
     rows = []
     for rule in rules:
         records = []
@@ -103,21 +136,30 @@ def table(benchmark_dir: Path, out: Path, commit: str, profile: str, rules: list
             continue
         cpu = [float(r["cpu_time"]) for r in records]
         rss = [float(r["max_rss"]) for r in records if r["max_rss"] not in ("", "NA", "-")]
-        rows.append(dict(commit=commit, profile=profile, rule=rule, jobs=len(records), cpu_s_total=f"{sum(cpu):.0f}",
-                         cpu_s_median=f"{statistics.median(cpu):.1f}",
-                         wall_s_total=f"{sum(float(r['s']) for r in records):.0f}",
-                         max_rss_mb=f"{max(rss):.0f}" if rss else ""))
+        row = dict(commit=commit, profile=profile, rule=rule, jobs=len(records), cpu_s_total=f"{sum(cpu):.0f}",
+                   cpu_s_median=f"{statistics.median(cpu):.1f}",
+                   wall_s_total=f"{sum(float(r['s']) for r in records):.0f}",
+                   max_rss_mb=f"{max(rss):.0f}" if rss else "")
+        if planned is not None:
+            row["jobs_in_profile"] = planned.get(rule, len(records))
+            row["cpu_s_total_estimated"] = f"{statistics.mean(cpu) * row['jobs_in_profile']:.0f}"
+        rows.append(row)
     if not rows:
         sys.exit(f"table: no benchmark files of {', '.join(rules)} under {benchmark_dir}")
-    rows.append(dict(commit=commit, profile=profile, rule="all Monte Carlo rules", jobs=sum(r["jobs"] for r in rows),
-                     cpu_s_total=f"{sum(float(r['cpu_s_total']) for r in rows):.0f}", cpu_s_median="",
-                     wall_s_total=f"{sum(float(r['wall_s_total']) for r in rows):.0f}",
-                     max_rss_mb=f"{max(float(r['max_rss_mb']) for r in rows if r['max_rss_mb']):.0f}"))
+    total = dict(commit=commit, profile=profile, rule="all Monte Carlo rules", jobs=sum(r["jobs"] for r in rows),
+                 cpu_s_total=f"{sum(float(r['cpu_s_total']) for r in rows):.0f}", cpu_s_median="",
+                 wall_s_total=f"{sum(float(r['wall_s_total']) for r in rows):.0f}",
+                 max_rss_mb=f"{max(float(r['max_rss_mb']) for r in rows if r['max_rss_mb']):.0f}")
+    if planned is not None:
+        total["jobs_in_profile"] = sum(r["jobs_in_profile"] for r in rows)
+        total["cpu_s_total_estimated"] = f"{sum(float(r['cpu_s_total_estimated']) for r in rows):.0f}"
+    rows.append(total)
     out.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=out.parent, prefix=f".{out.name}.")
     with os.fdopen(fd, "w", newline="") as fh:
+        sampled = " (a deterministic sample of the jobs: jobs_in_profile and the estimated total)" if planned else ""
         fh.write(f"# Monte Carlo rules of the {profile} profile at commit {commit}, one job at a time "
-                 f"(scripts/mc_rule_benchmarks.sh); {platform.machine()}, {os.cpu_count()} cores\n")
+                 f"(scripts/mc_rule_benchmarks.sh){sampled}; {platform.machine()}, {os.cpu_count()} cores\n")
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
@@ -139,12 +181,27 @@ def main(argv=None):
     t.add_argument("out", type=Path)
     t.add_argument("--commit", required=True)
     t.add_argument("--profile", required=True)
+    t.add_argument("--planned", nargs="*", default=None, metavar="RULE=COUNT")
     t.add_argument("rules", nargs="+")
+    s = sub.add_parser("sample")
+    s.add_argument("dry_run", type=Path)
+    s.add_argument("every", type=int)
+    s.add_argument("rules", nargs="+")
     args = ap.parse_args(argv)
     if args.command == "patch":
         patch(args.rules_dir, args.other_dir, args.rules)
+    elif args.command == "sample":
+        chosen, counts = sample(args.dry_run, args.every, args.rules)
+        print("\n".join(chosen))
+        print("\n".join(f"{rule}={count}" for rule, count in counts.items()), file=sys.stderr)
     else:
-        table(args.benchmark_dir, args.out, args.commit, args.profile, args.rules)
+        planned = None
+        if args.planned is not None:
+            try:
+                planned = {rule: int(count) for rule, count in (item.split("=") for item in args.planned)}
+            except ValueError:
+                sys.exit(f"table: --planned takes RULE=COUNT pairs, got {args.planned}")
+        table(args.benchmark_dir, args.out, args.commit, args.profile, args.rules, planned)
 
 
 if __name__ == "__main__":

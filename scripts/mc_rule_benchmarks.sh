@@ -11,6 +11,9 @@
 # OUT defaults to results/benchmarks/mc_rules_<profile>_<commit>.csv. CORES (default 1) jobs run
 # side by side; MC_BENCH_VENV reuses a virtual environment (else a temporary one, built ~3 min);
 # MC_RULES (space-separated) replaces the rule list; KEEP=1 keeps the temporary worktree (its results/ hold every run's output and log).
+# MC_SAMPLE=K runs every K-th of the rules' jobs (sorted by output file, so two commits run the same
+# jobs) and adds the profile's job count and the estimated total to the table: the paper profile's
+# Monte Carlo is ~12 h of CPU per commit, a sample of 1 in 8 about 1.5 h.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 COMMIT="${1:?usage: mc_rule_benchmarks.sh COMMIT [quick|paper] [OUT.csv]}"
@@ -26,7 +29,15 @@ case "$PROFILE" in
   *) echo "mc_rule_benchmarks: profile must be quick or paper, got '$PROFILE'" >&2; exit 2 ;;
 esac
 
-WORK="$(mktemp -d "${TMPDIR:-/tmp}/mc-rule-benchmarks.XXXXXX")"
+# MC_BENCH_WORK=DIR works in DIR and keeps it: the same command run again resumes there (Snakemake
+# redoes only the jobs that did not finish), for a paper-profile measurement longer than one sitting.
+if [ -n "${MC_BENCH_WORK:-}" ]; then
+  WORK="$(realpath -m "$MC_BENCH_WORK")"
+  mkdir -p "$WORK"
+  KEEP=1
+else
+  WORK="$(mktemp -d "${TMPDIR:-/tmp}/mc-rule-benchmarks.XXXXXX")"
+fi
 cleanup() {
   if [ "${KEEP:-0}" = 1 ]; then
     echo "[mc_rule_benchmarks] kept $WORK"
@@ -36,14 +47,33 @@ cleanup() {
   fi
 }
 trap cleanup EXIT
-git -C "$ROOT" worktree add --quiet --detach "$WORK/src" "$SHORT"
+if [ -d "$WORK/src" ]; then
+  [ "$(git -C "$WORK/src" rev-parse --short HEAD)" = "$SHORT" ] \
+    || { echo "mc_rule_benchmarks: $WORK/src holds another commit than $SHORT" >&2; exit 2; }
+  echo "[mc_rule_benchmarks] resuming in $WORK"
+  rm -rf "$WORK/src/.snakemake/locks"  # left by a run killed hard; this directory is this script's alone
+else
+  git -C "$ROOT" worktree add --quiet --detach "$WORK/src" "$SHORT"
+fi
 python3 "$ROOT/scripts/mc_rule_benchmarks.py" patch "$ROOT/workflow/rules" "$WORK/src/workflow/rules" "${RULES[@]}"
 
 export PYFRUSTRATE_VENV="${MC_BENCH_VENV:-$WORK/venv}"
 cd "$WORK/src"
 bash scripts/setup.sh
 echo "[mc_rule_benchmarks] $SHORT, $PROFILE profile: the Monte Carlo jobs"
-"$PYFRUSTRATE_VENV/bin/snakemake" -n --quiet rules "${CONFIG[@]}" --until "${RULES[@]}"
-"$PYFRUSTRATE_VENV/bin/snakemake" --cores "${CORES:-1}" "${CONFIG[@]}" --until "${RULES[@]}"
+PLANNED=()
+if [ -n "${MC_SAMPLE:-}" ]; then
+  "$PYFRUSTRATE_VENV/bin/snakemake" -n "${CONFIG[@]}" --until "${RULES[@]}" > "$WORK/dry_run.txt"
+  python3 "$ROOT/scripts/mc_rule_benchmarks.py" sample "$WORK/dry_run.txt" "$MC_SAMPLE" "${RULES[@]}" \
+    > "$WORK/targets.txt" 2> "$WORK/planned.txt"
+  mapfile -t TARGETS < "$WORK/targets.txt"
+  mapfile -t PLANNED < "$WORK/planned.txt"
+  echo "[mc_rule_benchmarks] a sample of ${#TARGETS[@]} jobs (every ${MC_SAMPLE}th; in the profile: ${PLANNED[*]})"
+  "$PYFRUSTRATE_VENV/bin/snakemake" --cores "${CORES:-1}" --rerun-incomplete "${CONFIG[@]}" "${TARGETS[@]}"
+  PLANNED=(--planned "${PLANNED[@]}")
+else
+  "$PYFRUSTRATE_VENV/bin/snakemake" -n --quiet rules "${CONFIG[@]}" --until "${RULES[@]}"
+  "$PYFRUSTRATE_VENV/bin/snakemake" --cores "${CORES:-1}" --rerun-incomplete "${CONFIG[@]}" --until "${RULES[@]}"
+fi
 python3 "$ROOT/scripts/mc_rule_benchmarks.py" table results/benchmarks "$OUT" --commit "$SHORT" --profile "$PROFILE" \
-  "${RULES[@]}"
+  "${PLANNED[@]}" "${RULES[@]}"

@@ -105,7 +105,7 @@ def particle_entry_points():
         ("ansatz.binding_energy_of", lambda p: ansatz.binding_energy_of(p, 5.0, 0.5, 0.5)),
         ("ansatz.finite_aggregates", lambda p: ansatz.finite_aggregates(p, 7)),
         ("ground_states.box_candidates", lambda p: ground_states.box_candidates(p, 7, 8)),
-        ("random_particles.binding_energy", lambda p: random_particles.binding_energy(p, 0.5, 2.0, 0.5)),
+        ("random_particles.binding_energy_of", lambda p: random_particles.binding_energy_of(p, 2.0, 0.5, 0.5)),
         ("random_particles.edge_energy_profile", lambda p: random_particles.edge_energy_profile(p, 8)),
         ("random_particles.fitted_boundary_layer_length",
          lambda p: random_particles.fitted_boundary_layer_length(p)),

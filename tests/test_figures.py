@@ -13,7 +13,6 @@
 from __future__ import annotations
 
 import json
-import runpy
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +21,7 @@ import pytest
 matplotlib = pytest.importorskip("matplotlib")
 
 from pyfrustrate import plotting  # noqa: E402
+from script_jobs import Named, run_script  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 BUILT = sorted((ROOT / "results" / "figures").glob("*.png"))
@@ -114,37 +114,10 @@ def test_figure_refuses_a_width_between_columns():
         plotting.figure(plotting.PAGE_WIDTH_CM, 24.0)
 
 
-class _Named(list):
-    """A Snakemake name list: positional items, some also by name."""
-
-    def __init__(self, items=(), **named):
-        super().__init__(list(items) + list(named.values()))
-        self.__dict__.update(named)
-
-
-class _Params(dict):
-    """Snakemake params or wildcards: by key and by attribute."""
-
-    __getattr__ = dict.__getitem__
-
-
-class _Job:
-    """The ``snakemake`` object a rule's script sees."""
-
-    def __init__(self, rule, inputs, outputs, log, params):
-        self.rule, self.input, self.output, self.log = rule, inputs, outputs, _Named([str(log)])
-        self.params, self.wildcards = _Params(params), _Params()
-
-
-def _run(script: str, rule: str, tmp_path: Path, inputs: _Named, outputs: _Named, params=None):
-    job = _Job(rule, inputs, outputs, tmp_path / f"{rule}.log", params or {})
-    runpy.run_path(str(ROOT / script), init_globals={"snakemake": job}, run_name="__snakemake__")
-
-
 def _drawn(tmp_path, name, script, inputs, params=None):
     """Draw ``script`` on ``inputs``; return the findings stored in its PNG and its page size (cm)."""
     png, pdf = tmp_path / f"{name}.png", tmp_path / f"{name}.pdf"
-    _run(script, name, tmp_path, inputs, _Named(pdf=str(pdf), png=str(png)), params)
+    run_script(script, name, tmp_path, inputs, Named(pdf=str(pdf), png=str(png)), params)
     return _stored_check(png)
 
 
@@ -169,16 +142,16 @@ def test_fig1_drawn_from_scratch(tmp_path):
     data = tmp_path / "profiles.npz"
     params = dict(n=40, k=1.0, eps=0.01, profile_kc_over_k=[0.5, 0.05, 0.005], drawing_kc_over_k=0.1,
                   drawing_n=12, drawing_eps=0.12, scan_kc_over_k_min=1e-3, scan_kc_over_k_max=1.0, scan_count=5)
-    _run("workflow/scripts/chain_profiles.py", "chain_profiles", tmp_path, _Named([str(data)]), _Named([str(data)]),
+    run_script("workflow/scripts/chain_profiles.py", "chain_profiles", tmp_path, Named([str(data)]), Named([str(data)]),
          params)
-    problems, size_cm = _drawn(tmp_path, "fig1_chain", "figures/fig1_chain.py", _Named([str(data)]))
+    problems, size_cm = _drawn(tmp_path, "fig1_chain", "figures/fig1_chain.py", Named([str(data)]))
     assert problems == []
     _assert_print_size(size_cm)
 
 
 def test_figS4_drawn_from_scratch(tmp_path):
     """Fig. S4 computes its own inputs (the pseudo-moduli of a simple particle)."""
-    problems, size_cm = _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", _Named())
+    problems, size_cm = _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", Named())
     assert problems == []
     _assert_print_size(size_cm)
 
@@ -212,13 +185,36 @@ def test_gallery_fills_captions_from_the_profile_that_made_the_figure():
     assert "not equilibrated" not in gallery.rendered_caption(caption, ROOT, "paper")
 
 
+def test_gallery_shows_a_rule_summary_as_written(tmp_path):
+    """A rule's summary sentence reaches the gallery page as its own text: the characters that are
+    reStructuredText markup (``W*``, ``n_mc``, ``|``, backquotes) are escaped, line breaks joined,
+    so docutils renders the sentence verbatim and without a warning."""
+    import json
+
+    import docutils.core
+
+    gallery = _gallery()
+    sentence = "W*_mc = 4 | n_mc in [12, 15] for `seed` 1, *all* 3 seeds <ok>\nsecond line_"
+    path = tmp_path / "figX_summary.json"
+    path.write_text(json.dumps({"summary": sentence}))
+    rest = f"| **In numbers:** {gallery.generated_summary(path)}\n"
+    tree = docutils.core.publish_doctree(rest, settings_overrides={"report_level": 5, "warning_stream": False})
+    warnings = [node for node in tree.findall() if node.tagname == "system_message"]
+    assert not warnings
+    assert tree.astext() == "In numbers: " + " ".join(sentence.split())
+    # Unescaped, the same sentence does not come through as written.
+    raw = docutils.core.publish_doctree(f"| **In numbers:** {sentence}\n",
+                                        settings_overrides={"report_level": 5, "warning_stream": False})
+    assert raw.astext() != "In numbers: " + " ".join(sentence.split())
+
+
 @pytest.mark.parametrize("profile", ["quick", "paper"])
 def test_figure_records_the_profile_the_gallery_shows(tmp_path, profile):
     """A figure rule passes the configuration's profile as a param; the figure's provenance
     records it, and the documentation's gallery reads it back from the PNG."""
     from pyfrustrate.io import read_provenance
 
-    _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", _Named(), dict(profile=profile))
+    _drawn(tmp_path, "figS4_pseudo_moduli", "figures/figS4_pseudo_moduli.py", Named(), dict(profile=profile))
     record = read_provenance(tmp_path / "figS4_pseudo_moduli.png")
     assert record["parameters"]["profile"] == profile
     assert record["rule"] == "figS4_pseudo_moduli"
@@ -231,8 +227,8 @@ def test_continuum_diagram_drawn_from_scratch(tmp_path):
     """Fig. 3a's panel, at its size in Fig. 3, on a coarse continuum diagram computed here."""
     data = tmp_path / "phase_diagram.npz"
     params = dict(nu_count=41, Gamma_max=1.6, Gamma_count=65)
-    _run("workflow/scripts/continuum_phase_diagram.py", "continuum_phase_diagram", tmp_path, _Named(),
-         _Named([str(data)]), params)
+    run_script("workflow/scripts/continuum_phase_diagram.py", "continuum_phase_diagram", tmp_path, Named(),
+         Named([str(data)]), params)
     from pyfrustrate.io import load_npz
 
     fig = plotting.figure(plotting.COLUMN_WIDTH_CM, 7.0)
@@ -271,6 +267,28 @@ def test_classifier_calls_two_fused_disks_a_fibre():
     small, large = np.linalg.eigvalsh(np.cov(xy.T))
     assert np.sqrt(large / small) > ELONGATION_THRESHOLD
     assert kind == "fiber"
+
+
+def test_mc_diagram_summary_explains_exactly_the_fused_runs_within_the_criterion():
+    """figX_mc_diagram's generated summary speaks of a run called a fibre where the best single
+    aggregate is compact only when it is within the criterion, and says "reads that shape" only when
+    the run lies below that aggregate (otherwise the marker could be a wrong prediction)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("figX_mc_diagram", ROOT / "figures" / "figX_mc_diagram.py")
+    figure = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(figure)
+    from pyfrustrate.ground_states import EQUILIBRATED_GAP
+
+    within, above = 0.5 * EQUILIBRATED_GAP, 2.0 * EQUILIBRATED_GAP
+    mc = {"nu": np.array([0.2, 0.5, 0.8, 0.9]), "Gamma": np.array([0.2, 0.3, 0.4, 0.5]),
+          "kind": np.array(["fiber", "fiber", "fiber", "disk"]), "single_kind": np.array(["disk"] * 4),
+          "gap": np.array([-3.0, 1.0, -2.0, -1.0]), "gap_ground": np.array([within, within, above, within]),
+          "ground_family": np.array(["aggregates2", "single", "single", "single"])}
+    lines = figure.fused_runs_explained(mc, 200)
+    assert len(lines) == 2
+    assert "ν = 0.2, Γ = 0.2" in lines[0] and "2 separate aggregates" in lines[0] and "reads that shape" in lines[0]
+    assert "ν = 0.5, Γ = 0.3" in lines[1] and "one aggregate" in lines[1] and "reads that shape" not in lines[1]
 
 
 def test_colour_ramps_start_at_a_visible_tint():

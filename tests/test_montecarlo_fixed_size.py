@@ -72,6 +72,65 @@ def test_two_disks_seed_is_one_disk_against_two_halves_in_one_box(n):
     assert box_bonds(one, box) == topology.most_bonds(n)
 
 
+@pytest.mark.parametrize("width, length", [(1, 3), (3, 6), (15, 24)])
+def test_fibre_and_disk_seeds_hold_as_many_particles_in_one_box(width, length):
+    fibre, disk, box = fs.fibre_and_disk_seeds(width, length, margin=3)
+    n = box * width
+    assert box >= length and fibre.shape == disk.shape == (n, 2)
+    assert [(len(c), rank) for c, rank in clusters(fibre, box)] == [(n, 1)]  # wraps one way
+    assert [(len(c), rank) for c, rank in clusters(disk, box)] == [(n, 0)]  # finite
+    assert box_bonds(disk, box) == topology.most_bonds(n)
+    # The smallest such box: one side less cannot hold the disk of its own fibre with the margin.
+    assert box == length or fs.disk_box((box - 1) * width, 3) > box - 1
+
+
+@pytest.mark.parametrize("n", [19, 100, 331])
+def test_disk_and_fibre_seeds_fill_rows_of_the_disk_box(n):
+    disk, fibre, box = fs.disk_and_fibre_seeds(n, margin=3)
+    assert box == fs.disk_box(n, 3) and disk.shape == fibre.shape == (n, 2)
+    assert [(len(c), rank) for c, rank in clusters(disk, box)] == [(n, 0)]
+    (cluster, rank), = clusters(fibre, box)
+    assert len(cluster) == n and rank == 1
+    rows = np.bincount(fibre[:, 1])
+    assert (rows[:-1] == box).all() and 0 < rows[-1] <= box  # full rows, the last one partly
+    # Full rows as in a fibre (3 L W - 2 L); a partial row of r particles adds r - 1 bonds in the
+    # row (it does not wrap) and two per particle to the full row below.
+    full, r = divmod(n, box)
+    expected = 3 * box * full - 2 * box + (3 * r - 1 if r else 0)
+    assert box_bonds(fibre, box) == expected
+
+
+def _point(fibre_energy, disk_energy, W=15, n=331, nu=0.5, Gamma=0.5):
+    return dict(fibre_energy_per_particle=fibre_energy, disk_energy_per_particle=disk_energy, W_ansatz=W,
+                n_ansatz=n, nu=nu, Gamma=Gamma)
+
+
+def test_two_sided_seeds_pit_the_predicted_kind_against_its_competitor():
+    fibre_wins = _point([-1.0, -2.0, -1.5], [-1.2, -1.9])
+    disk_wins = _point([-1.0, -1.8], [-1.2, -1.9, -1.85])
+    assert fs.ansatz_margin(fibre_wins) == pytest.approx(0.1) and fs.predicted_kind(fibre_wins) == "fibre"
+    assert fs.ansatz_margin(disk_wins) == pytest.approx(-0.1) and fs.predicted_kind(disk_wins) == "disk"
+    seeds = fs.two_sided_seeds(fibre_wins, "other_kind", fibre_length=24, margin=3)
+    assert seeds["predicted_kind"] == "fibre" and seeds["competitor_state"] == "one disk"
+    assert [rank for _, rank in clusters(seeds["predicted"], seeds["box"])] == [1]
+    assert [rank for _, rank in clusters(seeds["competitor"], seeds["box"])] == [0]
+    seeds = fs.two_sided_seeds(disk_wins, "other_kind", fibre_length=24, margin=3)
+    assert seeds["n"] == 331 and seeds["competitor_state"] == "a fibre wrapping the box"
+    seeds = fs.two_sided_seeds(disk_wins, "two_disks", fibre_length=24, margin=3)
+    assert sorted(len(c) for c, _ in clusters(seeds["competitor"], seeds["box"])) == [165, 166]
+    with pytest.raises(ValueError, match="predicts a fibre"):
+        fs.two_sided_seeds(fibre_wins, "two_disks", fibre_length=24)
+    with pytest.raises(ValueError, match="competitor must be one of"):
+        fs.two_sided_seeds(fibre_wins, "three_disks", fibre_length=24)
+
+
+@pytest.mark.parametrize("kind, outside, wraps, expected", [
+    ("fibre", 0, 1, True), ("fibre", 0, 0, False), ("fibre", 2, 1, False),
+    ("disk", 0, 0, True), ("disk", 0, 1, False), ("disk", 1, 0, False)])
+def test_persists_asks_one_aggregate_of_the_seeded_kind(kind, outside, wraps, expected):
+    assert fs.persists(kind, outside, wraps) is expected
+
+
 def test_seeded_fibre_energy_is_the_relaxed_straight_fibre_and_stays_at_zero_temperature(fibre_particle, options):
     length, width = 8, 3
     g = binding(fibre_particle, Gamma=0.5)

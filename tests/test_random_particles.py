@@ -249,11 +249,11 @@ def test_binding_energy_of_the_simple_particle_matches_the_ansatz_convention():
     h = pyfrustrate.Hexagon.from_continuum(2.5, 0.8, eps=1e-3)
     r = rp.RandomHexagon.from_hexagon(h)
     G = np.array([0.1, 0.5, 1.2])
-    np.testing.assert_allclose(rp.binding_energy(r, G, 2.5, 0.8), ansatz.binding_energy_of(h, 2.5, 0.8, G), rtol=1e-5)
+    np.testing.assert_allclose(rp.binding_energy_of(r, 2.5, 0.8, G), ansatz.binding_energy_of(h, 2.5, 0.8, G), rtol=1e-5)
     with pytest.raises(ValueError, match="ell"):
-        rp.binding_energy(r, G, -1.0, 0.5)
+        rp.binding_energy_of(r, -1.0, 0.5, G)
     with pytest.raises(ValueError, match="nu"):
-        rp.binding_energy(r, G, 1.0, 1.0)
+        rp.binding_energy_of(r, 1.0, 1.0, G)
 
 
 def test_aggregation_line_of_the_simple_particle_matches_its_ansatz_diagram():

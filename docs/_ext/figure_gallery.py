@@ -92,15 +92,24 @@ def rendered_caption(caption: str, root: Path, profile: str | None) -> str:
     return "\n\n".join(par for par in text.strip().split("\n\n") if not par.startswith("Made by the "))
 
 
+def rest_literal_text(text: str) -> str:
+    """``text`` as plain reStructuredText on one line: inline-markup characters escaped (a rule's
+    sentence may hold ``*``, ``_`` or ``|``, as in ``W*`` or ``n_mc``), line breaks joined, so that it
+    can sit in a line block without starting emphasis, a reference or a substitution."""
+    escaped = re.sub(r"([\\`*_|<>\[\]])", r"\\\1", text)
+    return " ".join(escaped.split())
+
+
 def generated_summary(path: Path) -> str | None:
     """The sentence a figure's rule writes beside it (``NAME_summary.json``, key ``summary``): the
-    part of a caption that holds measured counts, so that no caption types them."""
+    part of a caption that holds measured counts, so that no caption types them. Returned as
+    reStructuredText (``rest_literal_text``)."""
     import json
 
     if not path.is_file():
         return None
     try:
-        return str(json.loads(path.read_text())["summary"])
+        return rest_literal_text(str(json.loads(path.read_text())["summary"]))
     except (ValueError, KeyError):
         return None
 

@@ -82,15 +82,15 @@ fig.tight_layout()
 # ``anneal`` takes any particle model: the triangular particle of the supplement (its box
 # counts lattice cells, each an up and a down triangle; its ``g`` follows from ``gamma = g / 2``,
 # hence ``tiling="triangle"``) and a random-elasticity particle (its own ``ell`` and ``nu`` set
-# its ``g``, ``random_particles.binding_energy``).
+# its ``g``, ``random_particles.binding_energy_of``).
 
 from pyfrustrate import random_particles
 
 triangle = pf.Triangle.from_continuum(ell=2.5, nu=0.5, eps=0.05)
 g_triangle = float(continuum.particle_parameters(2.5, 0.5, 0.5, k=triangle.k, eps=triangle.eps, tiling="triangle").g)
 random_particle = random_particles.RandomHexagon.draw(seed=2025, index=17, eps=0.01)
-g_random = float(random_particles.binding_energy(random_particle, 0.5, random_particle.boundary_layer_length,
-                                                 float(random_particle.moduli["nu"])))
+g_random = float(random_particles.binding_energy_of(random_particle, random_particle.boundary_layer_length,
+                                                    float(random_particle.moduli["nu"]), 0.5))
 
 small = dict(box=12, n=24, steps=200 * 24, seed=3, method="newton", progress=False)
 others = {"triangles": pf.anneal(triangle, g=g_triangle, **small),

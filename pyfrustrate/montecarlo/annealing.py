@@ -315,7 +315,8 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
     The defaults are the best settings measured for the paper's sparse box (moves, schedule,
     method; ``options.DEFAULTS_MEASURED`` names where): Newton cluster energies (``method="auto"``,
     as ``relax``) warm-started from the parents' relaxed state, the linear schedule from
-    ``T0 = g``, cluster moves 0.05 at link 0.9, bonded moves 0.5 and surface moves 0.2.
+    ``T0 = g``, and the mix of cluster, bonded and surface moves whose values ``MonteCarloOptions``
+    lists (its defaults are the kernel's, read from its option table).
     What they reach on the issue's bar case (400 hexagons in 60 x 60, nu = 0.9, Gamma = 0.3,
     seed 1) against the best single aggregate, and at what CPU cost, beside the former defaults
     (L-BFGS, particle moves only): ``benchmarks/bench_anneal_defaults.py`` writes
@@ -369,8 +370,8 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
         ``figX_speed_accuracy``): an approximation.
 
         ``tol``: relaxation tolerance, relative as in ``relax``: max gradient <=
-        ``tol * particle.force_scale``. The default 1e-3 leaves relative energy errors near 1e-6
-        (benchmarks/bench_tradeoff.py), far below what changes a Metropolis decision.
+        ``tol * particle.force_scale``. The default leaves relative energy errors far below what
+        changes a Metropolis decision (benchmarks/bench_tradeoff.py measures them).
 
         ``warm_start``: with Newton, relax the clusters a move makes from the relaxed
         displacements of the clusters they came from (the moved particle rigidly attached;

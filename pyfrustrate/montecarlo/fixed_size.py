@@ -48,12 +48,16 @@ from .annealing import AnnealState, anneal
 from .driver import ChainState, new_chain
 from .options import MonteCarloOptions, check_particle
 
-__all__ = ["SCANS", "fibre_seed", "disk_seed", "two_disks_seed", "disk_box", "fixed_size_options", "seeded_state",
+__all__ = ["SCANS", "COMPETITORS", "fibre_seed", "disk_seed", "two_disks_seed", "fibre_and_disk_seeds",
+           "disk_and_fibre_seeds", "ansatz_margin", "predicted_kind", "two_sided_seeds", "persists", "disk_box", "fixed_size_options", "seeded_state",
            "heating_ladder", "reshaping_temperature", "sample_schedule", "sample", "FixedSizeSample",
            "size_of_lowest_energy", "fitted_optimum", "best_straight_fibre", "best_disk", "continuum_optima"]
 
 #: The two kinds of fixed-size samples.
 SCANS = ("fibre", "disk")
+#: The competitors of a two-sided check: two disks of half the predicted disk's size, or the other
+#: kind (a fibre against a predicted disk, a disk against a predicted fibre) of as many particles.
+COMPETITORS = ("two_disks", "other_kind")
 ROW_SPACING = np.sqrt(3.0) / 2.0  # distance between the rows of the hexagon lattice, lattice spacings
 
 
@@ -168,6 +172,191 @@ def two_disks_seed(n: int, margin: int = 4) -> tuple[np.ndarray, np.ndarray, int
     large = topology.stadium_sites(n - n // 2, 0.0, faceted=True)
     two = np.concatenate([small + (half // 2, box // 2), large + (half + half // 2, box // 2)])
     return disk_seed(n, box), two, box
+
+
+def fibre_and_disk_seeds(width: int, length: int, margin: int = 4) -> tuple[np.ndarray, np.ndarray, int]:
+    """A straight fibre of ``width`` rows wrapping a box and a compact disk of as many particles in
+    the same box: the seeds of a two-sided check at a fibre point (a fibre against a disk).
+
+    The box side is the smallest ``L >= length`` whose ``L * width`` particles fit as a disk with
+    ``margin`` empty rows around it (``disk_box``); the fibre has ``L * width`` particles.
+
+    Parameters
+    ----------
+    width : int
+        The fibre's rows, >= 1.
+    length : int
+        The shortest box side, >= 3.
+    margin : int, optional
+        As for ``disk_box``.
+
+    Returns
+    -------
+    fibre, disk : ndarray of int, shape (n, 2)
+    box : int
+
+    Raises
+    ------
+    ValueError
+        Bad ``width``, ``length`` or ``margin``, named.
+
+    Examples
+    --------
+    >>> from pyfrustrate.montecarlo.fixed_size import fibre_and_disk_seeds
+    >>> fibre, disk, box = fibre_and_disk_seeds(3, 6, margin=2)
+    >>> len(fibre) == len(disk) == 3 * box, box
+    (True, 11)
+    """
+    width = integer("width", width, 1)
+    box = integer("length", length, 3)
+    margin = integer("margin", margin, 1)
+    while disk_box(box * width, margin) > box:
+        box += 1
+    return fibre_seed(box, width), disk_seed(box * width, box), box
+
+
+def disk_and_fibre_seeds(n: int, margin: int = 4) -> tuple[np.ndarray, np.ndarray, int]:
+    """A compact disk of ``n`` particles and a straight fibre of as many wrapping the same box: the
+    seeds of a two-sided check at a disk point near the fibre-disk line (a disk against a fibre).
+
+    The box is ``disk_box(n, margin)``; the fibre fills its rows one after the other
+    (``fibre_seed``'s order), the last one partly when the box side does not divide ``n``.
+
+    Parameters
+    ----------
+    n : int
+        Particles, >= 1.
+    margin : int, optional
+        As for ``disk_box``.
+
+    Returns
+    -------
+    disk, fibre : ndarray of int, shape (n, 2)
+    box : int
+
+    Raises
+    ------
+    ValueError
+        Bad ``n`` or ``margin``, or a fibre too wide for the box (two empty rows must separate its
+        edges across the box).
+
+    Examples
+    --------
+    >>> from pyfrustrate.montecarlo.fixed_size import disk_and_fibre_seeds
+    >>> disk, fibre, box = disk_and_fibre_seeds(19, margin=2)
+    >>> box, len(disk), len(fibre), sorted(set(fibre[:, 1].tolist()))
+    (9, 19, 19, [0, 1, 2])
+    """
+    n = integer("n", n, 1)
+    box = disk_box(n, margin)
+    rows = -(-n // box)
+    if rows > box - 2:
+        raise ValueError(f"a fibre of n={n} particles needs {rows} rows of the box side {box}, more than box - 2")
+    return disk_seed(n, box), fibre_seed(box, rows)[:n], box
+
+
+def ansatz_margin(point) -> float:
+    """The ansatz's best disk minus its best straight fibre, in energy per particle including
+    binding (spring units): positive where the fibre is the better single aggregate.
+
+    Parameters
+    ----------
+    point : mapping
+        A point record with ``fibre_energy_per_particle`` and ``disk_energy_per_particle`` (the
+        ansatz's per width and per radius, as ``best_straight_fibre`` and ``best_disk`` give them).
+
+    Returns
+    -------
+    float
+    """
+    fibre = np.min(np.asarray(point["fibre_energy_per_particle"], float))
+    disk = np.min(np.asarray(point["disk_energy_per_particle"], float))
+    return float(disk - fibre)
+
+
+def predicted_kind(point) -> str:
+    """The ansatz's better single aggregate at a validation point: ``"fibre"`` where its best
+    straight fibre has the lower energy per particle (``ansatz_margin`` > 0), else ``"disk"``.
+
+    Parameters
+    ----------
+    point : mapping
+        As for ``ansatz_margin``.
+
+    Returns
+    -------
+    str
+    """
+    return "fibre" if ansatz_margin(point) > 0 else "disk"
+
+
+def two_sided_seeds(point, competitor: str, *, fibre_length: int, margin: int = 4):
+    """The seeds of a two-sided check (issue 33, item 4): the ansatz's predicted state at ``point``
+    (``predicted_kind``) and its competitor, with the same particles in the same box.
+
+    Parameters
+    ----------
+    point : mapping
+        A validation point record (``W_ansatz``, ``n_ansatz`` and the ansatz's energies).
+    competitor : {"two_disks", "other_kind"}
+        ``"two_disks"``: a predicted disk of ``n_ansatz`` against two of half of it
+        (``two_disks_seed``). ``"other_kind"``: a predicted fibre of ``W_ansatz`` rows against a
+        disk (``fibre_and_disk_seeds``), or a predicted disk of ``n_ansatz`` against a fibre
+        (``disk_and_fibre_seeds``).
+    fibre_length : int, keyword only
+        The shortest box side of a predicted fibre.
+    margin : int, optional
+        As for ``disk_box``.
+
+    Returns
+    -------
+    dict
+        ``predicted_state``, ``competitor_state`` (words), ``predicted_kind`` (``"fibre"`` or
+        ``"disk"``), ``predicted`` and ``competitor`` (sites), ``box``, ``n``.
+
+    Raises
+    ------
+    ValueError
+        An unknown competitor, or two disks against a predicted fibre.
+    """
+    if competitor not in COMPETITORS:
+        raise ValueError(f"competitor must be one of {COMPETITORS}, got {competitor!r}")
+    kind = predicted_kind(point)
+    if competitor == "two_disks":
+        if kind != "disk":
+            raise ValueError("competitor='two_disks' needs a point where the ansatz predicts a disk, but at "
+                             f"nu={point['nu']}, Gamma={point['Gamma']} it predicts a fibre")
+        predicted, other, box = two_disks_seed(int(point["n_ansatz"]), margin)
+        words = ("one disk", "two disks")
+    elif kind == "fibre":
+        predicted, other, box = fibre_and_disk_seeds(int(point["W_ansatz"]), fibre_length, margin)
+        words = ("a fibre wrapping the box", "one disk")
+    else:
+        predicted, other, box = disk_and_fibre_seeds(int(point["n_ansatz"]), margin)
+        words = ("one disk", "a fibre wrapping the box")
+    return dict(predicted_state=words[0], competitor_state=words[1], predicted_kind=kind, predicted=predicted,
+                competitor=other, box=box, n=len(predicted))
+
+
+def persists(kind: str, outside: int, wraps: int) -> bool:
+    """Whether a run seeded as ``kind`` ended in that kind: every particle in one aggregate, which
+    wraps the box in one direction for a fibre and in none for a disk.
+
+    Parameters
+    ----------
+    kind : {"fibre", "disk"}
+    outside : int
+        Particles outside the largest cluster at the end (``FixedSizeSample.outside``).
+    wraps : int
+        Directions the largest cluster wraps (``FixedSizeSample.wraps``).
+
+    Returns
+    -------
+    bool
+    """
+    if kind not in SCANS:
+        raise ValueError(f"kind must be one of {SCANS}, got {kind!r}")
+    return outside == 0 and wraps == (1 if kind == "fibre" else 0)
 
 
 def _span(sites) -> int:

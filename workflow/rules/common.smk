@@ -167,9 +167,10 @@ def validation_sample_files():
 
 
 def validation_two_sided_files():
-    """The two-sided checks (one disk against two) at the disk points of two_sided_Gamma."""
-    return [validation_point_file("disk", VALIDATION["disk_nu"], G).replace("point.json", f"two_sided_seed{seed}.json")
-            for G in VALIDATION["two_sided_Gamma"] for seed in VALIDATION["seeds"]]
+    """The two-sided checks (issue 33, item 4): per configured point and competitor, every seed."""
+    return [validation_point_file(c["scan"], c["nu"], c["Gamma"]).replace(
+                "point.json", f"two_sided_{c['competitor']}_seed{seed}.json")
+            for c in VALIDATION["two_sided"] for seed in VALIDATION["seeds"]]
 
 
 # The grand-canonical samples (montecarlo.smk, issue 33 item 2): one fibre per temperature,

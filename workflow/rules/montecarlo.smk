@@ -197,26 +197,29 @@ rule montecarlo_validation_sample:
         "../scripts/montecarlo_validation_sample.py"
 
 
-# Issue 33, item 4 at the disk points: one disk of the ansatz's size against two of half of it.
+# Issue 33, item 4: the ansatz's predicted state at a point against its nearest competitor
+# (montecarlo.fixed_size.two_sided_seeds), held at the point's reshaping-window temperature.
 rule montecarlo_validation_two_sided:
     input:
         point="results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/point.json",
     output:
-        "results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/two_sided_seed{seed}.json",
+        "results/montecarlo/validation/{scan}_nu{nu}_G{Gamma}/two_sided_{competitor}_seed{seed}.json",
     params:
+        competitor=lambda w: w.competitor,
         seed=lambda w: int(w.seed),
-        **pick(VALIDATION, "method", "tol", "disk_margin", "hold_sweeps", "cool_sweeps", "quench_sweeps",
-               "bonded_moves", "surface_moves"),
+        **pick(VALIDATION, "method", "tol", "fibre_length", "disk_margin", "hold_sweeps", "cool_sweeps",
+               "quench_sweeps", "bonded_moves", "surface_moves"),
     threads: 1
     wildcard_constraints:
-        scan="disk",
+        scan="fibre|disk",
+        competitor="two_disks|other_kind",
         seed=r"\d+",
     conda:
         "../envs/pyfrustrate.yaml"
     log:
-        "results/logs/montecarlo/validation_{scan}_nu{nu}_G{Gamma}_two_sided_seed{seed}.log",
+        "results/logs/montecarlo/validation_{scan}_nu{nu}_G{Gamma}_two_sided_{competitor}_seed{seed}.log",
     benchmark:
-        "results/benchmarks/montecarlo_validation_two_sided/{scan}_nu{nu}_G{Gamma}_two_sided_seed{seed}.tsv"
+        "results/benchmarks/montecarlo_validation_two_sided/{scan}_nu{nu}_G{Gamma}_{competitor}_seed{seed}.tsv"
     script:
         "../scripts/montecarlo_validation_two_sided.py"
 

@@ -3,7 +3,7 @@ validation, W*_MC (fibres) or n*_MC (disks) per seed from the quenched samples' 
 (montecarlo.fixed_size.size_of_lowest_energy) against the ansatz's best straight fibre or best
 hexagonal disk and the continuum's optimum; the profile's scale; the wall time per sample and a
 power law of the time per attempted move against the particles, to estimate larger samples;
-the two-sided checks (item 4) at the disk points; the grand-canonical samples (item 2), one record
+the two-sided checks (item 4); the grand-canonical samples (item 2), one record
 per temperature, chemical potential and seed, and W* per temperature and seed where <E>/<n> crosses
 mu (montecarlo.grand_canonical.threshold_width) against the ansatz's. large_runs (item 3) is an
 empty list until that item is done."""
@@ -90,24 +90,31 @@ with logging_to(snakemake.log[0]):  # noqa: F821
                   seconds_per_move_exponent=float(exponent), seconds_per_move_prefactor=float(np.exp(log_prefactor)),
                   estimated_seconds_per_sweep=per_sweep,
                   note="one core per sample; the estimate extrapolates the fitted power law")
-    # Two-sided checks, one record per point: the predicted state persists (one aggregate) and
-    # the competitor, with the same seed, never ends below it.
+    # Two-sided checks, one record per point and competitor: the predicted state persists (one
+    # aggregate of its kind, fixed_size.persists) and the competitor, with the same seed, never
+    # ends below it.
     checks = [load(path) for path in snakemake.input.two_sided]  # noqa: F821
     two_sided = []
-    for key in sorted({(c["scan"], c["nu"], c["Gamma"]) for c in checks}):
-        runs = sorted((c for c in checks if (c["scan"], c["nu"], c["Gamma"]) == key), key=lambda c: c["seed"])
+    for key in sorted({(c["scan"], c["nu"], c["Gamma"], c["competitor_rule"]) for c in checks}):
+        runs = sorted((c for c in checks if (c["scan"], c["nu"], c["Gamma"], c["competitor_rule"]) == key),
+                      key=lambda c: c["seed"])
         predicted = [round(c["predicted"]["energy_over_g"], 3) for c in runs]
         competitor = [round(c["competitor"]["energy_over_g"], 3) for c in runs]
-        persists = [len(c["predicted"]["cluster_sizes"]) == 1 for c in runs]
+        persists = [c["predicted"]["persists"] for c in runs]
         not_below = [e_c >= e_p for e_c, e_p in zip(competitor, predicted)]
-        two_sided.append(dict(scan=key[0], nu=key[1], Gamma=key[2], n=runs[0]["n"], box=runs[0]["box"],
-                              predicted_state=runs[0]["predicted_state"], competitor_state=runs[0]["competitor_state"],
+        first = runs[0]
+        two_sided.append(dict(scan=key[0], nu=key[1], Gamma=key[2], competitor_rule=key[3], n=first["n"],
+                              box=first["box"], predicted_kind=first["predicted_kind"],
+                              predicted_state=first["predicted_state"], competitor_state=first["competitor_state"],
+                              ansatz_margin_per_particle_over_g=first["ansatz_margin_per_particle_over_g"],
                               seeds=[c["seed"] for c in runs], predicted_energy_over_g=predicted,
                               competitor_energy_over_g=competitor,
+                              predicted_cluster_sizes=[c["predicted"]["cluster_sizes"] for c in runs],
                               competitor_cluster_sizes=[c["competitor"]["cluster_sizes"] for c in runs],
                               persists=persists, competitor_not_below=not_below,
                               holds=all(persists) and all(not_below)))
-        print(f"two-sided {key}: predicted {predicted}, competitor {competitor} (E/g), holds {two_sided[-1]['holds']}")
+        print(f"two-sided {key}: {first['predicted_state']} {predicted} against {first['competitor_state']} "
+              f"{competitor} (E/g), holds {two_sided[-1]['holds']}")
     # Grand-canonical samples (item 2): <W>(mu) per temperature and seed, and W* where the scan
     # crosses its threshold <E>/<n> = mu.
     grand = sorted(map(load, snakemake.input.grand),  # noqa: F821
@@ -143,7 +150,6 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     save_json(snakemake.output[0], dict(  # noqa: F821
         points=records, scale=dict(p.scale), timing=timing, large_runs=[], two_sided=two_sided,
         grand_canonical=grand_canonical_records, grand_canonical_W_star=W_star,
-        pending="large_runs (issue 33 item 3) is not computed yet; two_sided covers the disk points only "
-                "(one disk against two), not a fibre point or one near the fibre-disk line"),
+        pending="large_runs (issue 33 item 3) is not computed yet"),
         provenance=for_job(snakemake))  # noqa: F821
     print(f"{seconds.size} samples, {seconds.mean():.1f} s each on average (max {seconds.max():.1f} s)")
