@@ -69,7 +69,8 @@ if [ -n "${MC_SAMPLE:-}" ]; then
   mapfile -t TARGETS < "$WORK/targets.txt"
   mapfile -t PLANNED < "$WORK/planned.txt"
   echo "[mc_rule_benchmarks] a sample of ${#TARGETS[@]} jobs (every ${MC_SAMPLE}th; in the profile: ${PLANNED[*]})"
-  "$PYFRUSTRATE_VENV/bin/snakemake" --cores "${CORES:-1}" --rerun-incomplete "${CONFIG[@]}" "${TARGETS[@]}"
+  # The targets first: --configfile takes every word after it.
+  "$PYFRUSTRATE_VENV/bin/snakemake" "${TARGETS[@]}" --cores "${CORES:-1}" --rerun-incomplete "${CONFIG[@]}"
   PLANNED=(--planned "${PLANNED[@]}")
 else
   "$PYFRUSTRATE_VENV/bin/snakemake" -n --quiet rules "${CONFIG[@]}" --until "${RULES[@]}"

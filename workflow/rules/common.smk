@@ -4,6 +4,17 @@ def pick(section, *keys):
     return {key: section[key] for key in keys}
 
 
+def key_sorted(value):
+    """``value`` with the keys of every mapping in it sorted, at every depth: a param that holds a
+    configuration section then reads the same whatever the key order of the file it came from
+    (Snakemake reruns a job whose params changed, and compares them as written)."""
+    if isinstance(value, dict):
+        return {key: key_sorted(value[key]) for key in sorted(value)}
+    if isinstance(value, list):
+        return [key_sorted(item) for item in value]
+    return value
+
+
 def per_box(section, key):
     """A Monte Carlo run's value of ``key`` for its box kind (the wildcard ``kind``): the sparse
     runs read ``key``, the dense and large ones ``dense_key`` and ``large_key``."""

@@ -269,7 +269,7 @@ rule montecarlo_validation:
         estimate_particles=VALIDATION["estimate_particles"],
         # The profile's whole scale, recorded in the file (keys sorted: the same params whatever
         # the order of the configuration file).
-        scale=dict(sorted(dict(VALIDATION, ell=MC["ell"], eps=MC["eps"], grand=dict(sorted(GRAND.items()))).items())),
+        scale=key_sorted(dict(VALIDATION, ell=MC["ell"], eps=MC["eps"])),
     conda:
         "../envs/pyfrustrate.yaml"
     log:
