@@ -8,7 +8,7 @@ particles, the ansatz's compact hexagons as the line. (c) The two-sided checks: 
 energy of the run seeded as the competitor minus that of the run seeded as the predicted state,
 per seed (markers as in (a)); a cross where the predicted state did not persist.
 (d) Grand-canonical sampling of one fibre (outline moves): its mean width <W>
-(bars: the spread of its fluctuations) against the chemical potential mu, relative to the ansatz's
+(bars: its standard deviation there) against the chemical potential mu, relative to the ansatz's
 threshold min_W e(W), one marker per seed, a colour per temperature; the ansatz's width at T = 0
 (the width whose last row's energy is mu, steps), its W* (dotted) and the threshold (vertical);
 stars: W* read where the scan crosses its own threshold. (e) That crossing: <E>/<n> - mu against mu.
