@@ -7,6 +7,11 @@ one per seed), relative to the ansatz's best straight fibre, with the ansatz's s
 particles, the ansatz's compact hexagons as the line. (c) The two-sided checks: per check, the final
 energy of the run seeded as the competitor minus that of the run seeded as the predicted state,
 per seed (markers as in (a)); a cross where the predicted state did not persist.
+(d) Grand-canonical sampling of one fibre (outline moves): its mean width <W>
+(bars: its standard deviation there) against the chemical potential mu, relative to the ansatz's
+threshold min_W e(W), one marker per seed, a colour per temperature; the ansatz's width at T = 0
+(the width whose last row's energy is mu, steps), its W* (dotted) and the threshold (vertical);
+stars: W* read where the scan crosses its own threshold. (e) That crossing: <E>/<n> - mu against mu.
 """
 import json
 
@@ -50,13 +55,66 @@ def draw_two_sided(ax, checks, colors):
     ax.set_title("two-sided checks")
 
 
+def grand_panels(axes, validation):
+    """(d) <W>(mu) and (e) <E>/<n> - mu of the grand-canonical samples, mu relative to the
+    ansatz's threshold."""
+    samples, found = validation["grand_canonical"], validation["grand_canonical_W_star"]
+    ax_width, ax_gap = axes
+    if not samples:
+        return
+    threshold = found[0]["threshold_ansatz_over_g"]
+    row_energy = np.array(found[0]["ansatz_row_energy_over_g"]) - threshold
+    widths = np.arange(1, row_energy.size + 1)
+    offsets = np.array([s["mu_over_g"] for s in samples]) - threshold
+    # The ansatz's widths over the scan's range of mu, up to a few rows beyond the widest sample
+    # (its last rows' energies crowd together as W grows).
+    widest = max(s["W_mean"] + s["W_std"] for s in samples)
+    shown = (row_energy >= offsets.min() - 0.05) & (row_energy <= offsets.max() + 0.05) & (widths <= widest + 6)
+    ax_width.step(row_energy[shown], widths[shown], where="post", color="0.5", lw=1, label="ansatz, T = 0")
+    ax_width.axhline(found[0]["W_ansatz"], color="0.5", lw=0.8, ls=":", label=f"ansatz W* = {found[0]['W_ansatz']}")
+    temperatures = sorted({s["T_over_g"] for s in samples})
+    colors = dict(zip(temperatures, ("#e7298a", "#66a61e", "#e6ab02")))
+    seeds = sorted({s["seed"] for s in samples})
+    for T in temperatures:
+        for k, seed in enumerate(seeds):
+            scan = [s for s in samples if s["T_over_g"] == T and s["seed"] == seed]
+            mu = np.array([s["mu_over_g"] for s in scan]) - threshold
+            marker = SEED_MARKERS[k % len(SEED_MARKERS)]
+            label = rf"$T$ = {T:g} g" + (f", seed {seed}" if len(seeds) > 1 else "")
+            ax_width.errorbar(mu, [s["W_mean"] for s in scan], yerr=[s["W_std"] for s in scan], fmt=marker, ms=4,
+                              mfc="w", mec=colors[T], ecolor=colors[T], elinewidth=0.8, label=label)
+            ax_gap.plot(mu, [s["energy_per_particle_over_g"] - s["mu_over_g"] for s in scan], marker + "-", ms=4,
+                        mfc="w", mec=colors[T], color=colors[T], lw=0.8, label=label)
+        record = next(r for r in found if r["T_over_g"] == T)
+        for W, mu in zip(record["W_star"], record["mu_threshold_over_g"]):
+            if W is not None:
+                ax_width.plot(mu - threshold, W, "*", color=colors[T], ms=8, label=rf"$W^*$ at $T$ = {T:g} g")
+                ax_gap.plot(mu - threshold, 0.0, "*", color=colors[T], ms=8)
+    for ax in axes:
+        ax.axvline(0.0, color="0.5", lw=0.8, ls="--")
+        ax.set_xlabel(r"$(\mu - \min_W e)\,/\,g$")
+    ax_gap.axhline(0.0, color="0.5", lw=0.8)
+    ax_width.set_ylabel(r"fibre width $\langle W \rangle$ (rows)")
+    ax_gap.set_ylabel(r"$(\langle E\rangle/\langle n\rangle - \mu)\,/\,g$")
+    ax_width.set_title(rf"grand canonical, $\nu$ = {samples[0]['nu']:g}, $\Gamma$ = {samples[0]['Gamma']:g}")
+    ax_gap.set_title(r"threshold: $\langle E\rangle/\langle n\rangle = \mu$")
+    for ax in axes:
+        handles, labels = ax.get_legend_handles_labels()
+        unique = dict(zip(labels, handles))
+        ax.legend(unique.values(), unique.keys(), loc="upper left", frameon=True, facecolor="w", edgecolor="none")
+        low, high = ax.get_ylim()
+        ax.set_ylim(low, high + 0.8 * (high - low))  # room for the legend above the data
+
+
 def main(validation_path, point_paths, outputs, provenance=None):
     validation = load(validation_path)
     points = {(p["scan"], p["nu"], p["Gamma"]): p for p in map(load, point_paths)}
-    width_cm, height_cm = plotting.PAGE_WIDTH_CM, 6.2
+    width_cm, height_cm = plotting.PAGE_WIDTH_CM, 12.4
     fig = plotting.figure(width_cm, height_cm)
-    axes = [fig.add_axes([(1.5 + 5.8 * k) / width_cm, 1.1 / height_cm, 4.3 / width_cm, 4.3 / height_cm])
+    axes = [fig.add_axes([(1.5 + 5.8 * k) / width_cm, 7.3 / height_cm, 4.3 / width_cm, 4.3 / height_cm])
             for k in range(3)]
+    grand_axes = [fig.add_axes([(1.5 + 5.8 * k) / width_cm, 1.1 / height_cm, 4.3 / width_cm, 4.3 / height_cm])
+                  for k in range(2)]
     gammas = sorted({r["Gamma"] for r in validation["points"]})
     colors = dict(zip(gammas, ("#1b9e77", "#d95f02", "#7570b3")))
     for ax, scan in zip(axes, ("fibre", "disk")):
@@ -92,7 +150,8 @@ def main(validation_path, point_paths, outputs, provenance=None):
         low, high = ax.get_ylim()
         ax.set_ylim(min(low, 0), high + 1.0 * (high - min(low, 0)))  # room for the legend above the data
     draw_two_sided(axes[2], validation["two_sided"], colors)
-    for ax, letter in zip(axes, "abc"):
+    grand_panels(grand_axes, validation)
+    for ax, letter in zip(axes + grand_axes, "abcde"):
         plotting.panel_label(ax, letter)
     plotting.save(fig, outputs, provenance)
 

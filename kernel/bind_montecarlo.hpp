@@ -216,34 +216,46 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
                 }
                 py::array_t<double> energy(blocks);
                 py::array_t<std::int64_t> accepted(blocks);
-                py::array_t<int> sites(std::vector<py::ssize_t>{record_sites ? blocks : 0, mc.n()});
+                py::array_t<int> particles(blocks);
                 auto E = energy.mutable_unchecked<1>();
                 auto A = accepted.mutable_unchecked<1>();
-                auto W = sites.mutable_unchecked<2>();
+                auto N = particles.mutable_unchecked<1>();
+                std::vector<std::vector<int>> recorded(record_sites ? blocks : 0);
                 {
                     py::gil_scoped_release release;
-                    std::vector<int> sorted;
                     for (py::ssize_t k = 0; k < blocks; ++k) {
                         std::int64_t a = 0;
                         mc.state = mc.chain.run(std::move(mc.state), T(k), S(k), a);
                         A(k) = a;
                         E(k) = mc.chain.energy(mc.state);
+                        N(k) = mc.n();
                         if (!record_sites) continue;
-                        sorted = mc.state.particles;
-                        std::sort(sorted.begin(), sorted.end());
-                        for (int p = 0; p < mc.n(); ++p) W(k, p) = sorted[p];
+                        recorded[k] = mc.state.particles;
+                        std::sort(recorded[k].begin(), recorded[k].end());
                     }
                 }
                 py::dict d;
                 d["energy"] = energy;
                 d["accepted"] = accepted;
-                if (record_sites) d["sites"] = sites;
+                d["n"] = particles;
+                if (record_sites) {
+                    // Outline moves change the number of particles: rows padded with -1 to the largest.
+                    py::ssize_t width = mc.n();
+                    for (const auto& r : recorded) width = std::max(width, static_cast<py::ssize_t>(r.size()));
+                    py::array_t<int> sites(std::vector<py::ssize_t>{blocks, width});
+                    auto W = sites.mutable_unchecked<2>();
+                    for (py::ssize_t k = 0; k < blocks; ++k)
+                        for (py::ssize_t p = 0; p < width; ++p)
+                            W(k, p) = p < static_cast<py::ssize_t>(recorded[k].size()) ? recorded[k][p] : -1;
+                    d["sites"] = sites;
+                }
                 return d;
             },
             py::arg("temperatures"), py::arg("steps"), py::arg("record_sites") = false,
             "Runs blocks of steps[k] attempted moves at temperatures[k] (GIL released). Returns a dict: energy (B,) "
-            "after each block, accepted (B,) moves per block, and with record_sites the sorted occupied site indices "
-            "(B, n) (site index sublattice + S (i + L j) for S sublattices per cell) after each block.")
+            "after each block, accepted (B,) moves per block, n (B,) particles after each block (outline moves change "
+            "it), and with record_sites the sorted occupied site indices (B, max n) (site index sublattice + S (i + L "
+            "j) for S sublattices per cell) after each block, rows padded with -1.")
         .def_property_readonly("energy", [](const MC& mc) { return mc.chain.energy(mc.state); },
                                "Running energy: -g * bonds + deformation.")
         .def_property_readonly("deformation", [](const MC& mc) { return mc.state.deformation; },
@@ -284,7 +296,8 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
             "counters", [](MC& mc) { return counters_dict(mc.state); },
             "attempted, accepted, screened (rejected by the surrogate), cluster_attempted, cluster_accepted (cluster "
             "translations, counted in attempted/accepted too), cluster_rebonded (accepted translations that made or "
-            "broke bonds), surface_attempted, surface_accepted (surface moves, within attempted/accepted), cache_hits, "
+            "broke bonds), surface_attempted, surface_accepted (surface moves, within attempted/accepted), "
+            "outline_attempted, outline_accepted, outline_inserted, outline_removed (grand-canonical moves), cache_hits, "
             "cache_misses, cache_clears, minimisations, evaluations (energy+gradient evaluations, 1 per linear "
             "solve), fallbacks (linear solve refused, done by L-BFGS), unconverged, factorizations, warm_starts "
             "(Newton from the parents' relaxed state), warm_restarts (of those, redone from the linear solution).")

@@ -5,13 +5,21 @@ The moves are written again from their definitions (``kernel/montecarlo`` and th
 ``pyfrustrate.anneal``): a particle to a random empty site; a surface move (a random particle
 with an empty neighbour to a random empty site with an occupied neighbour, Hastings ratio
 ``n_s n_p / (n_s' n_p')``); a linked cluster move (a set grown by following each bond with
-probability ``link``, shifted by a random cell vector, Hastings factor ``(1 - link)**(b' - b)``).
+probability ``link``, shifted by a random cell vector, Hastings factor ``(1 - link)**(b' - b)``);
+an outline move (grand-canonical, ``kernel/montecarlo/outline_move.hpp``: with probability 1/2 a
+particle inserted on a random empty site next to the aggregate, else a random removable particle
+deleted, removability found by a search of the rest rather than by articulation points; Hastings
+ratio e(C) / d(C') for an insertion, d(C) / e(C') for a deletion, ``mu`` per particle gained). With
+outline moves the ``states`` are the connected aggregates, and any other move that leaves them is
+refused.
 Plain Metropolis-Hastings, hexagon tiling, sites numbered ``i + box j`` as ``enumerate_states``
 numbers them. ``wrong`` names one deliberately wrong rule:
 
 ``"double_deformation"``  the deformation part of the energy change counted twice;
 ``"link_p"``              ``link**(b' - b)`` in place of ``(1 - link)**(b' - b)``;
-``"no_surface_ratio"``    surface moves accepted without their Hastings ratio.
+``"no_surface_ratio"``    surface moves accepted without their Hastings ratio;
+``"outline_counts_dropped"``  outline moves accepted without their Hastings ratio;
+``"outline_counts_swapped"``  with its inverse (the reverse move's choices over the forward's).
 
 A chain with the right rules must sample the exact Boltzmann weights; with a wrong one, it must
 not, by the same statistic and at the same sample size as the kernel's test.
@@ -25,7 +33,7 @@ import numpy as np
 from pyfrustrate import topology as T
 
 NEIGHBOURS = [tuple(int(x) for x in d) for d in T.NEIGHBOURS]
-WRONG_RULES = ("double_deformation", "link_p", "no_surface_ratio")
+WRONG_RULES = ("double_deformation", "link_p", "no_surface_ratio", "outline_counts_dropped", "outline_counts_swapped")
 
 
 def bonds_of(state, box):
@@ -39,7 +47,8 @@ class ReferenceChain:
     """Metropolis-Hastings over the enumerated ``states`` with energies ``E`` (``bonds`` per state,
     so that ``E + g bonds`` is the deformation part)."""
 
-    def __init__(self, states, E, g, box, *, surface_moves=0.0, cluster_moves=0.0, link=1.0, wrong=None, seed=0):
+    def __init__(self, states, E, g, box, *, surface_moves=0.0, cluster_moves=0.0, link=1.0, outline_moves=0.0, mu=0.0,
+                 wrong=None, seed=0):
         if wrong not in (None,) + WRONG_RULES:
             raise ValueError(f"wrong must be one of {WRONG_RULES} or None, got {wrong!r}")
         self.index = {s: k for k, s in enumerate(states)}
@@ -47,12 +56,14 @@ class ReferenceChain:
         self.deformation = self.E + g * np.array([bonds_of(s, box) for s in states])
         self.box, self.g = box, g
         self.surface_moves, self.cluster_moves, self.link, self.wrong = surface_moves, cluster_moves, link, wrong
+        self.outline_moves, self.mu = outline_moves, mu
+        self.sizes = np.array([len(s) for s in states])
         self.rng = np.random.default_rng(seed)
         self.neighbours = [[((k % box + di) % box) + box * ((k // box + dj) % box) for di, dj in NEIGHBOURS]
                            for k in range(box * box)]
 
     def _accept(self, old, new, log_hastings, T_):
-        delta = self.E[new] - self.E[old]
+        delta = self.E[new] - self.E[old] - self.mu * (self.sizes[new] - self.sizes[old])
         if self.wrong == "double_deformation":
             delta += self.deformation[new] - self.deformation[old]
         log_ratio = -delta / T_ + log_hastings
@@ -106,25 +117,68 @@ class ReferenceChain:
             return None
         return rest | moved, (after - before) * math.log(factor) if after != before else 0.0
 
+    def _connected(self, occupied):
+        if not occupied:
+            return False
+        start = next(iter(occupied))
+        seen, queue = {start}, [start]
+        for s in queue:
+            for u in self.neighbours[s]:
+                if u in occupied and u not in seen:
+                    seen.add(u)
+                    queue.append(u)
+        return len(seen) == len(occupied)
+
+    def _removable(self, occupied):
+        """Particles whose removal leaves a connected, non-empty aggregate."""
+        return sorted(s for s in occupied if len(occupied) > 1 and self._connected(occupied - {s}))
+
+    def _outline_proposal(self, occupied):
+        if self.rng.random() < 0.5:
+            if len(occupied) + 1 >= self.box * self.box:
+                return None
+            outline = self._exposed(occupied)[1]
+            after = occupied | {outline[self.rng.integers(len(outline))]}
+            forward, reverse = len(outline), len(self._removable(after))
+        else:
+            removable = self._removable(occupied)
+            if not removable:
+                return None
+            after = occupied - {removable[self.rng.integers(len(removable))]}
+            forward, reverse = len(removable), len(self._exposed(after)[1])
+        ratio = {"outline_counts_dropped": 1.0, "outline_counts_swapped": reverse / forward}.get(self.wrong,
+                                                                                                 forward / reverse)
+        return after, math.log(ratio)
+
+    def _fixed_size_proposal(self, occupied):
+        """(occupancy after, log Hastings ratio) of a cluster, surface or particle move, or (None, 0)."""
+        if self.rng.random() < self.cluster_moves:
+            proposal = self._cluster_proposal(occupied)
+            return proposal if proposal else (None, 0.0)
+        proposal = (self._surface_proposal(occupied) if self.rng.random() < self.surface_moves
+                    else self._particle_proposal(occupied))
+        if not proposal:
+            return None, 0.0
+        a, b, log_hastings = proposal
+        return (occupied - {a}) | {b}, log_hastings
+
     def run(self, start, T_, samples):
         """The state index after each of ``samples`` attempted moves at temperature ``T_``."""
         occupied = set(start)
         current = self.index[tuple(sorted(occupied))]
         visited = np.empty(samples, np.int64)
         for step in range(samples):
-            u = self.rng.random()
-            if u < self.cluster_moves:
-                proposal = self._cluster_proposal(occupied)
+            # No deviate without outline moves: the other tests keep their random sequences.
+            if self.outline_moves and self.rng.random() < self.outline_moves:
+                proposal = self._outline_proposal(occupied)
                 new_occupied, log_hastings = proposal if proposal else (None, 0.0)
             else:
-                proposal = (self._surface_proposal(occupied) if self.rng.random() < self.surface_moves
-                            else self._particle_proposal(occupied))
-                new_occupied, log_hastings = None, 0.0
-                if proposal:
-                    a, b, log_hastings = proposal
-                    new_occupied = (occupied - {a}) | {b}
-            if new_occupied is not None:
-                new = self.index[tuple(sorted(new_occupied))]
+                new_occupied, log_hastings = self._fixed_size_proposal(occupied)
+            key = None if new_occupied is None else tuple(sorted(new_occupied))
+            if self.outline_moves and key not in self.index:
+                key = None  # a move that disconnects the aggregate: out of the state space
+            if key is not None:
+                new = self.index[key]
                 if self._accept(current, new, log_hastings, T_):
                     occupied, current = new_occupied, new
             visited[step] = current

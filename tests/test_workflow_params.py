@@ -88,6 +88,8 @@ def _rerun_by_params(work: Path, configfile: Path) -> tuple[set[str], set[str]]:
         # downstream, reruns too).
         (["montecarlo", "validation"], "hold_sweeps",
          ["results/montecarlo/validation/*/size*", "results/montecarlo/validation/*/two_sided*"]),
+        # The grand-canonical samples alone (validation.json, downstream, reruns too).
+        (["montecarlo", "validation", "grand"], "sweeps", ["results/montecarlo/validation/grand_*"]),
         (["montecarlo"], "exchange_Gamma_min", ["results/montecarlo/runs/sparse_*"]),
         # The triangle's finite-size predictions (Fig. S6) use the same Gamma grid.
         (["montecarlo"], "finite_Gamma_count", ["results/montecarlo/finite/*", "results/triangle/finite/*"]),

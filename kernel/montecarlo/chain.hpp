@@ -86,6 +86,7 @@ public:
     int n() const { return static_cast<int>(particles_.size()); }
     int site_of(int particle) const { return particles_[particle]; }
     bool occupied(int s) const { return occupant_[s] >= 0; }
+    const std::vector<int>& occupancy() const { return occupant_; }  // particle at each site, -1 if empty
     int occupied_neighbours(int s) const;
     std::uint64_t uniform_index(std::uint64_t n);  // unbiased, in [0, n)
     double uniform01();                            // in [0, 1), 53 bits
@@ -124,13 +125,14 @@ private:
     // clusters it contains whole (those no particle left); a cached shape gives its energy.
     double fresh_deformation_lower_bound() const;
     void adopt_fresh_clusters();
-    // Delayed acceptance of a move that changes the bonds by bond_change, log_hastings being the
+    // Delayed acceptance of a move that changes the bonds by bond_change (and E - mu n by
+    // `reservoir` = -mu dn besides, outline moves), log_hastings being the
     // log ratio of its reverse to its forward proposal probability. First stage: the surrogate
     // energy (returned in `surrogate`, 0 unless delayed) with the proposal ratio, before any
     // relaxation; false if the move is screened out. Second stage: on the energy change delta,
     // dE - dE_s when delayed, else plain Metropolis-Hastings. Each draws one deviate (the first
     // only with delayed acceptance on), whatever the energies.
-    bool passes_first_stage(int bond_change, double log_hastings, double T, double& surrogate);
+    bool passes_first_stage(int bond_change, double reservoir, double log_hastings, double T, double& surrogate);
     // The second stage's deviate u is drawn before the relaxation (which draws none), so that a
     // lower bound on delta can decide a rejection without relaxing (second_stage_argument).
     bool passes_second_stage(double delta, double surrogate, double log_hastings, double T, double u) const;
@@ -183,7 +185,11 @@ private:
     // The chain's own.
     MoveFamilies moves_;
     Proposal proposal_;
+    // outline_moves > 0: the box holds one aggregate, which no move may disconnect (outline_move.hpp).
+    AggregateGraph aggregate_;
+    std::vector<int> arrived_, vacated_;  // the sites a move under test reached and left, insertions and deletions included
     std::vector<int> moved_;  // particles of the move under test, in proposal order
+    int removed_particle_ = -1;  // the number of the particle a deletion under test took away
     std::vector<double> saved_displacement_;
     std::vector<char> saved_known_;
     std::vector<std::shared_ptr<RelaxedCluster>> saved_factor_;
@@ -343,6 +349,9 @@ template <class Model>
 inline ChainState MonteCarlo<Model>::run(ChainState state, double T, std::int64_t steps, std::int64_t& accepted) {
     if (!(T >= 0) || !std::isfinite(T)) throw std::invalid_argument("T must be non-negative and finite, got " + std::to_string(T));
     accepted = with_loaded(state, [&] {
+        if (options_.outline_moves > 0 && steps > 0 && !aggregate_.connected(*this))
+            throw std::invalid_argument("outline moves need the box to hold one connected aggregate, got " +
+                                        std::to_string(n()) + " particles in several clusters");
         std::int64_t taken = 0;
         for (std::int64_t k = 0; k < steps; ++k) taken += step(T);
         return taken;
@@ -389,7 +398,10 @@ inline bool MonteCarlo<Model>::attempt(Move& move, typename Move::Counters& own,
     if (!move.propose(*this, p, own)) return false;
     make_move();
     move.after_move(*this, p);
-    if (std::isinf(p.log_hastings)) {  // the reverse move cannot be proposed
+    // Outline moves keep the aggregate connected by construction; a particle moved elsewhere may
+    // not disconnect it (outline_move.hpp).
+    const bool disconnects = options_.outline_moves > 0 && !p.from.empty() && !aggregate_.connected(*this);
+    if (std::isinf(p.log_hastings) || disconnects) {  // the reverse move cannot be proposed, or is out of the state space
         undo_move();
         return false;
     }
@@ -401,8 +413,10 @@ inline bool MonteCarlo<Model>::attempt(Move& move, typename Move::Counters& own,
         move.accepted(p, own);
         return true;
     }
+    // The reservoir's share of the change of E - mu n (outline moves).
+    const double reservoir = p.particle_change() == 0 ? 0.0 : -options_.chemical_potential * p.particle_change();
     double surrogate;
-    if (!passes_first_stage(p.bond_change, p.log_hastings, T, surrogate)) {
+    if (!passes_first_stage(p.bond_change, reservoir, p.log_hastings, T, surrogate)) {
         undo_move();
         return false;
     }
@@ -416,24 +430,24 @@ inline bool MonteCarlo<Model>::attempt(Move& move, typename Move::Counters& own,
             const auto add = [&](int id) {
                 if (std::find(old_ids_.begin(), old_ids_.end(), id) == old_ids_.end()) old_ids_.push_back(id);
             };
-            for (const int s : p.from) add(label_[s]);
-            for (const int t : p.to)
+            for (const int s : vacated_) add(label_[s]);
+            for (const int t : arrived_)
                 for (int d = 0; d < box_.neighbours(); ++d) {
                     const int v = box_.next(t, d);
-                    if (occupant_[v] >= 0 && std::find(p.to.begin(), p.to.end(), v) == p.to.end()) add(label_[v]);
+                    if (occupant_[v] >= 0 && std::find(arrived_.begin(), arrived_.end(), v) == arrived_.end()) add(label_[v]);
                 }
         }
         if (!options_.incremental) {
             old_deformation = deformation_;
             new_deformation = scratch_deformation(true, false, false);
         } else {
-            find_fresh_clusters(p.to.data(), p.to.size(), p.from.data(), p.from.size(), old_deformation);
+            find_fresh_clusters(arrived_.data(), arrived_.size(), vacated_.data(), vacated_.size(), old_deformation);
             // The second stage's test is monotone in the energy change: if even the lower bound
             // on it fails, so does the relaxed one, and the move is rejected without relaxing.
             // Minimised energies only: the linear method's is the energy of the linear response,
             // not a minimum, and no sum of them bounds another.
             if (options_.relax.method != RelaxMethod::Linear) {
-                const double lowest = -g_ * p.bond_change + (fresh_deformation_lower_bound() - old_deformation);
+                const double lowest = -g_ * p.bond_change + reservoir + (fresh_deformation_lower_bound() - old_deformation);
                 if (!metropolis(second_stage_argument(lowest, surrogate, p.log_hastings, T), T, u)) {
                     ++counters.bounded;
                     undo_move();
@@ -446,7 +460,8 @@ inline bool MonteCarlo<Model>::attempt(Move& move, typename Move::Counters& own,
         undo_move();
         throw;
     }
-    if (!passes_second_stage(-g_ * p.bond_change + (new_deformation - old_deformation), surrogate, p.log_hastings, T, u)) {
+    if (!passes_second_stage(-g_ * p.bond_change + reservoir + (new_deformation - old_deformation), surrogate, p.log_hastings,
+                             T, u)) {
         undo_move();
         return false;
     }
@@ -494,11 +509,42 @@ inline void MonteCarlo<Model>::make_move() {
         occupant_[p.to[k]] = moved_[k];
         particles_[moved_[k]] = p.to[k];
     }
+    arrived_.assign(p.to.begin(), p.to.end());
+    vacated_.assign(p.from.begin(), p.from.end());
+    if (p.removed >= 0) {
+        // The last particle takes the removed one's number (undo_move puts it back).
+        removed_particle_ = occupant_[p.removed];
+        particles_[removed_particle_] = particles_.back();
+        occupant_[particles_.back()] = removed_particle_;
+        occupant_[p.removed] = -1;
+        particles_.pop_back();
+        vacated_.push_back(p.removed);
+    }
+    if (p.inserted >= 0) {
+        occupant_[p.inserted] = static_cast<int>(particles_.size());
+        particles_.push_back(p.inserted);
+        arrived_.push_back(p.inserted);
+    }
 }
 
 template <class Model>
 inline void MonteCarlo<Model>::undo_move() {
     const Proposal& p = proposal_;
+    if (p.inserted >= 0) {
+        occupant_[p.inserted] = -1;
+        particles_.pop_back();
+    }
+    if (p.removed >= 0) {
+        const int last = static_cast<int>(particles_.size());
+        if (removed_particle_ < last) {  // the last particle had taken its number
+            particles_.push_back(particles_[removed_particle_]);
+            occupant_[particles_.back()] = last;
+            particles_[removed_particle_] = p.removed;
+        } else {
+            particles_.push_back(p.removed);
+        }
+        occupant_[p.removed] = removed_particle_;
+    }
     for (const int t : p.to) occupant_[t] = -1;
     for (std::size_t k = 0; k < p.from.size(); ++k) {
         occupant_[p.from[k]] = moved_[k];
@@ -522,8 +568,8 @@ inline void MonteCarlo<Model>::accept_moved_labels() {
     const Proposal& p = proposal_;
     // A site left is empty now (unless reached again): no label, and no relaxed displacement
     // unless the move carried them along.
-    if (options_.parent_start && !p.carries_displacements) forget_displacements(p.from);
-    for (const int s : p.from) label_[s] = -1;
+    if (options_.parent_start && !p.carries_displacements) forget_displacements(vacated_);
+    for (const int s : vacated_) label_[s] = -1;
     adopt_fresh_clusters();
 }
 
@@ -844,13 +890,12 @@ inline void MonteCarlo<Model>::find_fresh_clusters(const int* arrived, std::size
 
 template <class Model>
 inline double MonteCarlo<Model>::fresh_deformation_lower_bound() const {
-    const Proposal& p = proposal_;
-    const auto moved_here = [&](int s) { return std::find(p.to.begin(), p.to.end(), s) != p.to.end(); };
+    const auto moved_here = [&](int s) { return std::find(arrived_.begin(), arrived_.end(), s) != arrived_.end(); };
     // Old clusters a particle left: their remains are no longer whole, and bound nothing.
     std::vector<int> whole;
     for (const int id : old_ids_) {
         bool left = false;
-        for (const int s : p.from) left = left || label_[s] == id;
+        for (const int s : vacated_) left = left || label_[s] == id;
         if (!left) whole.push_back(id);
     }
     double lower = 0.0;
@@ -911,14 +956,15 @@ inline void MonteCarlo<Model>::adopt_fresh_clusters() {
 }
 
 template <class Model>
-inline bool MonteCarlo<Model>::passes_first_stage(int bond_change, double log_hastings, double T, double& surrogate) {
+inline bool MonteCarlo<Model>::passes_first_stage(int bond_change, double reservoir, double log_hastings, double T,
+                                                  double& surrogate) {
     // The surrogate costs no relaxation. Its deviate is drawn whatever the energy change, so that
     // roundoff in an energy can never shift the random sequence. At T = 0 there is no
     // distribution to keep, only a descent: every move that lowers the energy is taken, which the
     // two stages would refuse whenever the surrogate overstates a gain (a bound pair of triangles
     // costs far less than e_b per bond, so below the gas threshold pairs would never break).
     const bool delayed = options_.delayed_acceptance && T > 0;
-    surrogate = delayed ? -(g_ - options_.bond_deformation) * bond_change : 0.0;
+    surrogate = delayed ? -(g_ - options_.bond_deformation) * bond_change + reservoir : 0.0;
     if (!options_.delayed_acceptance) return true;
     const double u = uniform01();
     if (!delayed || metropolis(surrogate - T * log_hastings, T, u)) return true;

@@ -61,6 +61,12 @@ struct MonteCarloOptions {
     // benchmarks/bench_mc_goals.py).
     bool parent_factor = false;
     int parent_factor_min_particles = 0;
+    // Grand-canonical sampling of one aggregate (montecarlo/outline_move.hpp): the probability of
+    // an outline move (insertion or deletion at the aggregate's outline) and the reservoir's
+    // chemical potential, in the units of g. outline_moves > 0: the box must hold one connected
+    // aggregate, and every move that would disconnect it is refused.
+    double outline_moves = 0.0;
+    double chemical_potential = 0.0;
 };
 
 // What values a field takes.
@@ -140,6 +146,14 @@ void for_each_option(Options& o, F&& f) {
     f(integer("parent_factor_min_particles", S::Run, 0, kIntMax,
               "the smallest relaxed cluster that keeps its factor for its children"),
       o.parent_factor_min_particles);
+    f(real("outline_moves", S::Run, 0, false, 1, false,
+           "probability of an outline move: a particle inserted next to the one aggregate of the box or removed "
+           "from it, exchanged with a reservoir at chemical_potential (other moves may not disconnect the aggregate)"),
+      o.outline_moves);
+    f(real("chemical_potential", S::Run, -kUnbounded, true, kUnbounded, true,
+           "the reservoir's chemical potential mu of outline moves, in the units of g (the chain samples "
+           "exp(-(E - mu n) / T))"),
+      o.chemical_potential);
     f(real("force_scale", S::Particle, 0, true, kUnbounded, true, "the particle's force unit (particle.force_scale)"),
       o.force_scale);
     f(real("bond_deformation", S::Particle, -kUnbounded, true, kUnbounded, true,

@@ -26,11 +26,17 @@ struct Proposal {
     double log_hastings = 0;   // log of the reverse over the forward proposal probability; -inf: no reverse move
     bool carries_displacements = false;  // a rigid shift: the moved particles keep their relaxed displacements
     bool rigid = false;        // shape, bonds and energy unchanged (a whole cluster landing untouched): accepted as is
+    // Grand-canonical moves (outline_move.hpp): a particle appears on `inserted`, or the one on
+    // `removed` leaves the box (-1: none).
+    int inserted = -1, removed = -1;
 
     void clear() {
         from.clear(), to.clear();
         bond_change = 0, log_hastings = 0, carries_displacements = false, rigid = false;
+        inserted = removed = -1;
     }
+    // Particles after the move minus before.
+    int particle_change() const { return (inserted >= 0) - (removed >= 0); }
     static constexpr double kImpossible = -std::numeric_limits<double>::infinity();
 };
 

@@ -6,8 +6,10 @@ Modules: ``options`` (``MonteCarloOptions``, the one options type, checked once;
 ``Gamma=`` or ``g=``), ``annealing`` (schedules, ``anneal``), ``exchange`` (``replica_exchange``),
 ``driver`` (the run loop both share, a chain's state as a value), ``checkpoints`` (data-only
 checkpoint files), ``trajectory`` (GSD snapshots), ``analysis`` (clusters through the kernel,
-classification of aggregates, ``BoxState``), ``drawing`` (``draw_snapshot``) and ``fixed_size``
-(single aggregates sampled at fixed size: the Monte Carlo's own ``W*`` and ``n*``).
+classification of aggregates, ``BoxState``), ``drawing`` (``draw_snapshot``), ``fixed_size``
+(single aggregates sampled at fixed size: the Monte Carlo's own ``W*`` and ``n*``) and
+``grand_canonical`` (one fibre exchanging particles with a reservoir: its width against the
+chemical potential, and ``W*`` at a temperature).
 
 Units and conventions: sites are lattice coordinates on the 60-degree axes ``a1 = (1, 0)``,
 ``a2 = (1/2, sqrt(3)/2)`` of a periodic ``box x box`` patch of cells; energies and temperatures are
@@ -23,7 +25,7 @@ from .drawing import draw_snapshot
 from .driver import ChainState
 from .exchange import ReplicaExchangeResult, ReplicaState, geometric_temperatures, replica_exchange
 from .options import DEFAULTS_MEASURED, MonteCarloOptions, binding
-from . import fixed_size
+from . import fixed_size, grand_canonical
 
 __all__ = ["anneal", "AnnealResult", "AnnealState", "read_checkpoint", "SCHEDULES", "DEFAULT_SWEEPS",
            "replica_exchange", "ReplicaExchangeResult", "ReplicaState", "geometric_temperatures",

@@ -253,15 +253,19 @@ def chain_options(options, fields: dict) -> MonteCarloOptions:
     TypeError
         A keyword that is no field, or ``options`` of another type.
     ValueError
-        A field out of range.
+        A field out of range, or outline moves (a run of fixed ``n``: ``anneal`` and
+        ``replica_exchange`` record ``n`` particles per block; grand-canonical sampling is
+        ``montecarlo.grand_canonical``).
     """
     names = {field["name"] for field in _RUN_FIELDS}
     unknown = sorted(set(fields) - names)
     if unknown:
         raise TypeError(f"unexpected keyword argument(s) {', '.join(map(repr, unknown))}; the chain's options are "
                         f"{', '.join(sorted(names))}")
-    if options is None:
-        return MonteCarloOptions(**fields)
-    if not isinstance(options, MonteCarloOptions):
+    if options is not None and not isinstance(options, MonteCarloOptions):
         raise TypeError(f"options must be a MonteCarloOptions, got {type(options).__name__}")
-    return options.replace(**fields) if fields else options
+    checked = MonteCarloOptions(**fields) if options is None else options.replace(**fields) if fields else options
+    if checked.outline_moves > 0:
+        raise ValueError(f"outline_moves must be 0 in a run of fixed n, got {checked.outline_moves}; grand-canonical "
+                         "sampling of one aggregate is pyfrustrate.montecarlo.grand_canonical")
+    return checked

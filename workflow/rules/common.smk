@@ -182,3 +182,14 @@ def validation_two_sided_files():
     return [validation_point_file(c["scan"], c["nu"], c["Gamma"]).replace(
                 "point.json", f"two_sided_{c['competitor']}_seed{seed}.json")
             for c in VALIDATION["two_sided"] for seed in VALIDATION["seeds"]]
+
+
+# The grand-canonical samples (montecarlo.smk, issue 33 item 2): one fibre per temperature,
+# chemical potential and seed.
+GRAND = VALIDATION["grand"]
+
+
+def grand_sample_files():
+    folder = f"results/montecarlo/validation/grand_nu{float(GRAND['nu']):g}_G{float(GRAND['Gamma']):g}"
+    return [f"{folder}/T{t}_mu{m}_seed{seed}.json" for t in range(len(GRAND["temperatures_over_g"]))
+            for m in range(len(GRAND["mu_offsets_over_g"])) for seed in GRAND["seeds"]]

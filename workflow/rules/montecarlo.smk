@@ -224,11 +224,43 @@ rule montecarlo_validation_two_sided:
         "../scripts/montecarlo_validation_two_sided.py"
 
 
+# Issue 33, item 2: one fibre exchanging particles with a reservoir (outline moves,
+# pyfrustrate.montecarlo.grand_canonical), seeded at the ansatz's best width and held at a
+# temperature and at mu = min_W e(W) (the ansatz's threshold) + an offset; one job of one core each.
+rule montecarlo_validation_grand:
+    output:
+        "results/montecarlo/validation/grand_nu{nu}_G{Gamma}/T{t}_mu{m}_seed{seed}.json",
+    params:
+        nu=lambda w: float(w.nu),
+        Gamma=lambda w: float(w.Gamma),
+        T_over_g=lambda w: GRAND["temperatures_over_g"][int(w.t)],
+        mu_offset_over_g=lambda w: GRAND["mu_offsets_over_g"][int(w.m)],
+        run_keys=lambda w: [int(w.t), int(w.m)],
+        seed=lambda w: int(w.seed),
+        **pick(MC, "ell", "eps"),
+        **pick(VALIDATION, "method", "tol", "ansatz_max_width", "bonded_moves", "surface_moves"),
+        **pick(GRAND, "length", "sweeps", "equilibration", "outline_moves"),
+    threads: 1
+    wildcard_constraints:
+        t=r"\d+",
+        m=r"\d+",
+        seed=r"\d+",
+    conda:
+        "../envs/pyfrustrate.yaml"
+    log:
+        "results/logs/montecarlo/validation_grand_nu{nu}_G{Gamma}_T{t}_mu{m}_seed{seed}.log",
+    benchmark:
+        "results/benchmarks/montecarlo_validation_grand/nu{nu}_G{Gamma}_T{t}_mu{m}_seed{seed}.tsv"
+    script:
+        "../scripts/montecarlo_validation_grand.py"
+
+
 rule montecarlo_validation:
     input:
         points=[validation_point_file(*point) for point in validation_points()],
         samples=validation_sample_files(),
         two_sided=validation_two_sided_files(),
+        grand=grand_sample_files(),
     output:
         "results/montecarlo/validation.json",
     params:

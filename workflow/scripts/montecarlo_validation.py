@@ -3,14 +3,16 @@ validation, W*_MC (fibres) or n*_MC (disks) per seed from the quenched samples' 
 (montecarlo.fixed_size.size_of_lowest_energy) against the ansatz's best straight fibre or best
 hexagonal disk and the continuum's optimum; the profile's scale; the wall time per sample and a
 power law of the time per attempted move against the particles, to estimate larger samples;
-the two-sided checks (item 4) at the disk points. large_runs (item 3) is an empty list until that
-item is done."""
+the two-sided checks (item 4); the grand-canonical samples (item 2), one record
+per temperature, chemical potential and seed, and W* per temperature and seed where <E>/<n> crosses
+mu (montecarlo.grand_canonical.threshold_width) against the ansatz's. large_runs (item 3) is an
+empty list until that item is done."""
 import json
 
 import numpy as np
 
 from pyfrustrate.io import logging_to, save_json
-from pyfrustrate.montecarlo import fixed_size
+from pyfrustrate.montecarlo import fixed_size, grand_canonical
 from pyfrustrate.provenance import for_job
 
 p = snakemake.params  # noqa: F821 (provided by snakemake; each value named in the rule)
@@ -113,8 +115,41 @@ with logging_to(snakemake.log[0]):  # noqa: F821
                               holds=all(persists) and all(not_below)))
         print(f"two-sided {key}: {first['predicted_state']} {predicted} against {first['competitor_state']} "
               f"{competitor} (E/g), holds {two_sided[-1]['holds']}")
+    # Grand-canonical samples (item 2): <W>(mu) per temperature and seed, and W* where the scan
+    # crosses its threshold <E>/<n> = mu.
+    grand = sorted(map(load, snakemake.input.grand),  # noqa: F821
+                   key=lambda s: (s["T_over_g"], s["seed"], s["mu_over_g"]))
+    grand_canonical_records = [dict((k, s[k]) for k in (
+        "nu", "Gamma", "T_over_g", "mu_over_g", "mu_offset_over_g", "seed", "W_mean", "W_std", "n_mean", "n_std",
+        "energy_per_particle_over_g", "wraps", "seconds", "length")) | dict(W_end=s["W_trace"][-1]) for s in grand]
+    # The ansatz's width against mu at T = 0: the energy of the W-th row, W e(W) - (W - 1) e(W - 1),
+    # is the mu at which a straight fibre of W rows and one of W - 1 have one grand potential.
+    widths = np.arange(1, len(grand[0]["fibre_energy_per_particle_over_g"]) + 1) if grand else np.zeros(0)
+    row_energy = np.diff(np.r_[0.0, widths * np.array(grand[0]["fibre_energy_per_particle_over_g"])]) if grand else widths
+    W_star = []
+    for temperature_index, T in enumerate(sorted({s["T_over_g"] for s in grand})):
+        per_seed = []
+        for seed in sorted({s["seed"] for s in grand}):
+            scan = [s for s in grand if s["T_over_g"] == T and s["seed"] == seed]
+            W, mu = grand_canonical.threshold_width([s["mu_over_g"] for s in scan], [s["W_mean"] for s in scan],
+                                                    [s["energy_per_particle_over_g"] for s in scan])
+            per_seed.append((seed, W, mu, [round(s["W_mean"], 2) for s in scan],
+                             [round(s["W_trace"][-1], 2) for s in scan]))
+        found = [W for _, W, *_ in per_seed if np.isfinite(W)]
+        # temperature_index (0: the coldest) names a record whatever the profile's temperatures.
+        W_star.append(dict(T_over_g=T, temperature_index=temperature_index, seeds=[s for s, *_ in per_seed],
+                           W_star=[None if np.isnan(W) else round(W, 2) for _, W, *_ in per_seed],
+                           mu_threshold_over_g=[None if np.isnan(mu) else round(mu, 4) for _, _, mu, *_ in per_seed],
+                           W_mean_by_offset=[means for *_, means, _ in per_seed],
+                           W_end_by_offset=[ends for *_, ends in per_seed],
+                           W_star_mean=round(float(np.mean(found)), 2) if found else None,
+                           W_star_spread=round(float(np.ptp(found)), 2) if found else None,
+                           W_ansatz=grand[0]["W_ansatz"], threshold_ansatz_over_g=grand[0]["threshold_over_g"],
+                           ansatz_row_energy_over_g=row_energy.tolist()))
+        print(f"grand-canonical T = {T:g} g: W* per seed {W_star[-1]['W_star']} (ansatz {grand[0]['W_ansatz']})")
     save_json(snakemake.output[0], dict(  # noqa: F821
         points=records, scale=dict(p.scale), timing=timing, large_runs=[], two_sided=two_sided,
+        grand_canonical=grand_canonical_records, grand_canonical_W_star=W_star,
         pending="large_runs (issue 33 item 3) is not computed yet"),
         provenance=for_job(snakemake))  # noqa: F821
     print(f"{seconds.size} samples, {seconds.mean():.1f} s each on average (max {seconds.max():.1f} s)")
