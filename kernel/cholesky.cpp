@@ -146,10 +146,19 @@ CholeskyAnalysis::CholeskyAnalysis(int n, const std::vector<int>& column_start, 
                                    bool own_ldl, const std::vector<int>* node_of)
     : n_(n), nnz_(row.size()) {
     if (n < 1) throw std::invalid_argument("sparse Cholesky: empty matrix");
-    if (static_cast<int>(column_start.size()) != n + 1 || column_start.back() != static_cast<int>(row.size()))
+    if (static_cast<int>(column_start.size()) != n + 1 || column_start.front() != 0 ||
+        column_start.back() != static_cast<int>(row.size()) ||
+        !std::is_sorted(column_start.begin(), column_start.end()))
         throw std::invalid_argument("sparse Cholesky: inconsistent compressed-column pattern");
-    if (node_of && static_cast<int>(node_of->size()) != n)
-        throw std::invalid_argument("sparse Cholesky: node_of must give a node for each of the n columns");
+    if (node_of && (static_cast<int>(node_of->size()) != n ||
+                    std::any_of(node_of->begin(), node_of->end(), [](int v) { return v < 0; })))
+        throw std::invalid_argument("sparse Cholesky: node_of must give a node (>= 0) for each of the n columns");
+    for (int j = 0; j < n; ++j)
+        for (int p = column_start[j]; p < column_start[j + 1]; ++p)
+            if (row[p] < 0 || row[p] > j || (p > column_start[j] && row[p] <= row[p - 1]) ||
+                (p + 1 == column_start[j + 1] && row[p] != j))
+                throw std::invalid_argument("sparse Cholesky: column " + std::to_string(j) +
+                                            " must hold rows 0..j of the upper triangle, increasing, its diagonal last");
     if (own_ldl && node_of) {
         // The whole analysis without CHOLMOD: AMD on the quotient graph, then the elimination
         // tree and column counts of the own LDL^T. Kept where CHOLMOD would factorise
@@ -281,6 +290,8 @@ long CholeskyAnalysis::factor_nonzeros() const {
 }
 
 double CholeskyAnalysis::factor_flops() const { return common_ ? common_of(common_)->fl : own_flops_; }
+
+int CholeskyAnalysis::paired_rows() const { return static_cast<int>(std::count(pair_.begin(), pair_.end(), 1)); }
 
 bool CholeskyAnalysis::supernodal() const { return symbolic_ && static_cast<cholmod_factor*>(symbolic_)->is_super; }
 

@@ -67,6 +67,8 @@ class CholeskyAnalysis {
     double factor_flops() const;   // floating-point operations of one numeric factorisation
     bool supernodal() const;
     bool own_ldl() const { return !perm_.empty(); }
+    bool cholmod_analysed() const { return common_ != nullptr; }
+    int paired_rows() const;  // own LDL^T: pairs of rows factorised together
 
    private:
     friend class CholeskyFactor;
