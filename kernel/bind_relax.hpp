@@ -25,6 +25,23 @@ inline void export_relaxed_cluster(pybind11::module_& m) {
                                "Nonzeros of the factor L.")
         .def_property_readonly("fresh_nonzeros", [](const RelaxedCluster& c) { return c.fresh_nonzeros; },
                                "Nonzeros of L when it was last made from scratch.");
+    m.def(
+        "_sparse_ldl_solve",
+        [](int n, const std::vector<int>& column_start, const std::vector<int>& row, const std::vector<double>& values,
+           const std::vector<int>& node_of, const Vector& rhs) -> py::tuple {
+            if (rhs.size() != n) throw std::invalid_argument("rhs must have n entries");
+            if (values.size() != row.size()) throw std::invalid_argument("values must have one entry per row index");
+            auto analysis = std::make_shared<CholeskyAnalysis>(n, column_start, row, /*own_ldl=*/true,
+                                                               node_of.empty() ? nullptr : &node_of);
+            CholeskyFactor factor(analysis);
+            const py::object x = factor.factorize(values) ? py::cast(Vector(factor.solve(rhs))) : py::none();
+            return py::make_tuple(x, analysis->own_ldl(), analysis->cholmod_analysed(), analysis->paired_rows());
+        },
+        py::arg("n"), py::arg("column_start"), py::arg("row"), py::arg("values"), py::arg("node_of"), py::arg("rhs"),
+        "Testing hook: the solution of A x = rhs by the kernel's sparse LDL^T (A: upper triangle in compressed "
+        "columns; node_of: a node per column, empty for CHOLMOD's ordering), None if A is not positive definite; "
+        "with whether the own LDL^T ran, whether CHOLMOD analysed, and how many pairs of rows it factorised "
+        "together.");
     m.def("rigid_pieces", &rigid_pieces, py::arg("topology"),
           "How many rigidly joined pieces (particles sharing a side) a finite topology falls into; 1 for a "
           "periodic cell.");

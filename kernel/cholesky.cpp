@@ -1,5 +1,6 @@
 #include "cholesky.hpp"
 
+#include <amd.h>
 #include <cholmod.h>
 
 #include <algorithm>
@@ -71,12 +72,104 @@ Eigen::VectorXd take_dense(cholmod_dense* x, cholmod_common* c) {
 
 }  // namespace
 
+namespace {
+
+// CHOLMOD's rule for its supernodal factorisation (Common->supernodal_switch, default 40): flops
+// per entry of L at or above it.
+constexpr double kSupernodalSwitch = 40.0;
+
+// AMD's fill-reducing ordering of the quotient graph whose nodes are the groups node_of gives
+// the degrees of freedom (a network's corners: both coordinates of a corner touch the same
+// entries), expanded to the degrees of freedom, those of a node consecutive in increasing order.
+// The graph has a quarter of the entries of the matrix's, and AMD's work falls with it; the fill
+// is the same up to ties, since AMD merges indistinguishable nodes anyway. Empty if AMD fails.
+std::vector<int> quotient_amd_ordering(int n, const std::vector<int>& column_start, const std::vector<int>& row,
+                                       const std::vector<int>& node_of) {
+    const int m = n ? *std::max_element(node_of.begin(), node_of.end()) + 1 : 0;
+    // Edges between distinct nodes, both ways, bucketed by their second node and then, stably, by
+    // their first: each node's neighbours come out sorted (two counting sorts), then deduplicated.
+    std::vector<int> second_start(m + 1, 0), first_start(m + 1, 0);
+    for (int j = 0; j < n; ++j)
+        for (int p = column_start[j]; p < column_start[j + 1]; ++p) {
+            const int a = node_of[row[p]], b = node_of[j];
+            if (a == b) continue;
+            ++second_start[a + 1], ++second_start[b + 1];
+            ++first_start[a + 1], ++first_start[b + 1];
+        }
+    for (int k = 0; k < m; ++k) second_start[k + 1] += second_start[k], first_start[k + 1] += first_start[k];
+    std::vector<int> by_second(second_start[m]);  // the first node of each edge, bucketed by the second
+    {
+        std::vector<int> next(second_start.begin(), second_start.end() - 1);
+        for (int j = 0; j < n; ++j)
+            for (int p = column_start[j]; p < column_start[j + 1]; ++p) {
+                const int a = node_of[row[p]], b = node_of[j];
+                if (a == b) continue;
+                by_second[next[b]++] = a;
+                by_second[next[a]++] = b;
+            }
+    }
+    std::vector<int> ai(first_start[m]);
+    {
+        std::vector<int> next(first_start.begin(), first_start.end() - 1);
+        for (int b = 0; b < m; ++b)
+            for (int q = second_start[b]; q < second_start[b + 1]; ++q) ai[next[by_second[q]]++] = b;
+    }
+    std::vector<int> ap(m + 1, 0);
+    int kept = 0;
+    for (int a = 0; a < m; ++a) {
+        const int begin = kept;
+        for (int q = first_start[a]; q < first_start[a + 1]; ++q)
+            if (kept == begin || ai[kept - 1] != ai[q]) ai[kept++] = ai[q];
+        ap[a + 1] = kept;
+    }
+    std::vector<int> node_order(m);
+    double control[AMD_CONTROL], info[AMD_INFO];
+    amd_defaults(control);
+    if (amd_order(m, ap.data(), ai.data(), node_order.data(), control, info) != AMD_OK) return {};
+    // The nodes' degrees of freedom (a counting sort by node, increasing within each).
+    std::vector<int> dof_start(m + 1, 0), dofs(n);
+    for (int j = 0; j < n; ++j) ++dof_start[node_of[j] + 1];
+    for (int k = 0; k < m; ++k) dof_start[k + 1] += dof_start[k];
+    {
+        std::vector<int> next(dof_start.begin(), dof_start.end() - 1);
+        for (int j = 0; j < n; ++j) dofs[next[node_of[j]]++] = j;
+    }
+    std::vector<int> perm;
+    perm.reserve(n);
+    for (const int k : node_order) perm.insert(perm.end(), dofs.begin() + dof_start[k], dofs.begin() + dof_start[k + 1]);
+    return perm;
+}
+
+}  // namespace
+
 CholeskyAnalysis::CholeskyAnalysis(int n, const std::vector<int>& column_start, const std::vector<int>& row,
-                                   bool own_ldl)
-    : n_(n) {
+                                   bool own_ldl, const std::vector<int>* node_of)
+    : n_(n), nnz_(row.size()) {
     if (n < 1) throw std::invalid_argument("sparse Cholesky: empty matrix");
-    if (static_cast<int>(column_start.size()) != n + 1 || column_start.back() != static_cast<int>(row.size()))
+    if (static_cast<int>(column_start.size()) != n + 1 || column_start.front() != 0 ||
+        column_start.back() != static_cast<int>(row.size()) ||
+        !std::is_sorted(column_start.begin(), column_start.end()))
         throw std::invalid_argument("sparse Cholesky: inconsistent compressed-column pattern");
+    if (node_of && (static_cast<int>(node_of->size()) != n ||
+                    std::any_of(node_of->begin(), node_of->end(), [](int v) { return v < 0; })))
+        throw std::invalid_argument("sparse Cholesky: node_of must give a node (>= 0) for each of the n columns");
+    for (int j = 0; j < n; ++j)
+        for (int p = column_start[j]; p < column_start[j + 1]; ++p)
+            if (row[p] < 0 || row[p] > j || (p > column_start[j] && row[p] <= row[p - 1]) ||
+                (p + 1 == column_start[j + 1] && row[p] != j))
+                throw std::invalid_argument("sparse Cholesky: column " + std::to_string(j) +
+                                            " must hold rows 0..j of the upper triangle, increasing, its diagonal last");
+    if (own_ldl && node_of) {
+        // The whole analysis without CHOLMOD: AMD on the quotient graph, then the elimination
+        // tree and column counts of the own LDL^T. Kept where CHOLMOD would factorise
+        // simplicially (by its own rule, on these counts); otherwise CHOLMOD's analysis below.
+        const std::vector<int> perm = quotient_amd_ordering(n, column_start, row, *node_of);
+        if (!perm.empty()) {
+            own_symbolic(perm, column_start, row);
+            if (own_flops_ < kSupernodalSwitch * own_nonzeros_) return;
+            perm_.clear(), ap_.clear(), ai_.clear(), value_of_.clear(), parent_.clear(), lp_.clear(), pair_.clear();
+        }
+    }
     auto* c = new cholmod_common;
     cholmod_start(c);
     // Failures are reported through the return values checked below, not printed.
@@ -109,9 +202,16 @@ CholeskyAnalysis::CholeskyAnalysis(int n, const std::vector<int>& column_start, 
     }
     symbolic_ = L;
     if (!own_ldl || L->is_super) return;
-    // The permuted upper triangle: entry (i, j) of A goes to (min, max) of (pinv i, pinv j).
     const int* perm = static_cast<const int*>(L->Perm);
-    perm_.assign(perm, perm + n);
+    own_symbolic(std::vector<int>(perm, perm + n), column_start, row);
+}
+
+void CholeskyAnalysis::own_symbolic(const std::vector<int>& perm, const std::vector<int>& column_start,
+                                    const std::vector<int>& row) {
+    const int n = n_;
+    const size_t nnz = row.size();
+    // The permuted upper triangle: entry (i, j) of A goes to (min, max) of (pinv i, pinv j).
+    perm_ = perm;
     std::vector<int> pinv(n);
     for (int k = 0; k < n; ++k) pinv[perm[k]] = k;
     // Columns, and rows within each column, in increasing order: two stable counting sorts (by
@@ -152,23 +252,48 @@ CholeskyAnalysis::CholeskyAnalysis(int n, const std::vector<int>& column_start, 
     }
     lp_.assign(n + 1, 0);
     for (int k = 0; k < n; ++k) lp_[k + 1] = lp_[k] + lnz[k];
+    // Pairs of rows factorised together: column k + 1 of P A P^T holds column k's rows (k
+    // included) and k + 1, as both coordinates of one corner do when the ordering keeps them
+    // adjacent; then both rows of L reach the same columns, and row k + 1 column k too.
+    pair_.assign(n, 0);
+    for (int k = 0; k + 1 < n;) {
+        const int rows = ap_[k + 1] - ap_[k];
+        const bool same = ap_[k + 2] - ap_[k + 1] == rows + 1 && rows > 0 && ai_[ap_[k + 1] - 1] == k &&
+                          ai_[ap_[k + 2] - 1] == k + 1 &&
+                          std::equal(ai_.begin() + ap_[k], ai_.begin() + ap_[k + 1], ai_.begin() + ap_[k + 1]);
+        pair_[k] = same;
+        k += same ? 2 : 1;
+    }
+    // nnz(L) and the flops of an LL^T factorisation as CHOLMOD counts them (its column counts
+    // include the diagonal; flops: the sum of their squares).
+    own_nonzeros_ = 0, own_flops_ = 0;
+    for (int k = 0; k < n; ++k) {
+        const double count = lnz[k] + 1.0;
+        own_nonzeros_ += count;
+        own_flops_ += count * count;
+    }
 }
 
 CholeskyAnalysis::~CholeskyAnalysis() {
     auto* c = common_of(common_);
     auto* L = static_cast<cholmod_factor*>(symbolic_);
     auto* A = static_cast<cholmod_sparse*>(matrix_);
+    if (!c) return;  // analysed without CHOLMOD
     cholmod_free_factor(&L, c);
     cholmod_free_sparse(&A, c);
     cholmod_finish(c);
     delete c;
 }
 
-long CholeskyAnalysis::factor_nonzeros() const { return static_cast<long>(common_of(common_)->lnz); }
+long CholeskyAnalysis::factor_nonzeros() const {
+    return common_ ? static_cast<long>(common_of(common_)->lnz) : static_cast<long>(own_nonzeros_);
+}
 
-double CholeskyAnalysis::factor_flops() const { return common_of(common_)->fl; }
+double CholeskyAnalysis::factor_flops() const { return common_ ? common_of(common_)->fl : own_flops_; }
 
-bool CholeskyAnalysis::supernodal() const { return static_cast<cholmod_factor*>(symbolic_)->is_super; }
+int CholeskyAnalysis::paired_rows() const { return static_cast<int>(std::count(pair_.begin(), pair_.end(), 1)); }
+
+bool CholeskyAnalysis::supernodal() const { return symbolic_ && static_cast<cholmod_factor*>(symbolic_)->is_super; }
 
 CholeskyFactor::CholeskyFactor(std::shared_ptr<CholeskyAnalysis> analysis) : analysis_(std::move(analysis)) {
     auto* c = common_of(analysis_->common_);
@@ -176,7 +301,7 @@ CholeskyFactor::CholeskyFactor(std::shared_ptr<CholeskyAnalysis> analysis) : ana
         const int n = analysis_->n_;
         li_.resize(analysis_->lp_[n]);
         lx_.resize(analysis_->lp_[n]);
-        d_.resize(n), y_.resize(n), lnz_.resize(n), flag_.resize(n), pattern_.resize(n);
+        d_.resize(n), y_.resize(n), y2_.resize(n), lnz_.resize(n), flag_.resize(n), pattern_.resize(n);
         return;
     }
     factor_ = cholmod_copy_factor(static_cast<cholmod_factor*>(analysis_->symbolic_), c);
@@ -194,13 +319,17 @@ int CholeskyFactor::size() const { return analysis_->n_; }
 bool CholeskyFactor::factorize(const std::vector<double>& values) {
     auto* c = common_of(analysis_->common_);
     auto* A = static_cast<cholmod_sparse*>(analysis_->matrix_);
-    if (values.size() != A->nzmax) throw std::invalid_argument("sparse Cholesky: values do not match the pattern");
+    if (values.size() != analysis_->nnz_) throw std::invalid_argument("sparse Cholesky: values do not match the pattern");
     if (analysis_->own_ldl()) {
-        // Up-looking LDL^T of P A P^T, row k of L from the elimination tree (ldl_numeric).
+        // Up-looking LDL^T of P A P^T, row k of L from the elimination tree (ldl_numeric); rows
+        // k, k + 1 of a pair (CholeskyAnalysis::pair_) together: one walk of the tree and one
+        // pass over each column of L for both, the same operations in the same order as two
+        // single rows (the factor is the same to the last bit).
         const CholeskyAnalysis& a = *analysis_;
         const int n = a.n_;
         ok_ = true;
-        for (int k = 0; k < n; ++k) {
+        for (int k = 0; k < n;) {
+            const bool pair = a.pair_[k];
             y_[k] = 0.0;
             int top = n;
             flag_[k] = k;
@@ -215,6 +344,23 @@ bool CholeskyFactor::factorize(const std::vector<double>& values) {
                 }
                 while (len > 0) pattern_[--top] = pattern_[--len];
             }
+            // Row k + 1 of a pair: its column of A is row k's rows and k, k + 1 (the pair's test),
+            // so its tree walk is row k's; its entries in rows k and k + 1 are kept apart.
+            double y2_k = 0.0, d2 = 0.0;
+            if (pair) {
+                flag_[k + 1] = k + 1;
+                lnz_[k + 1] = 0;
+                for (int p = a.ap_[k + 1]; p < a.ap_[k + 2]; ++p) {
+                    const int i = a.ai_[p];
+                    if (i == k) {
+                        y2_k += values[a.value_of_[p]];
+                    } else if (i == k + 1) {
+                        d2 += values[a.value_of_[p]];
+                    } else {
+                        y2_[i] += values[a.value_of_[p]];
+                    }
+                }
+            }
             d_[k] = y_[k];
             y_[k] = 0.0;
             for (; top < n; ++top) {
@@ -222,17 +368,48 @@ bool CholeskyFactor::factorize(const std::vector<double>& values) {
                 const double yi = y_[i];
                 y_[i] = 0.0;
                 const int p2 = a.lp_[i] + lnz_[i];
-                for (int p = a.lp_[i]; p < p2; ++p) y_[li_[p]] -= lx_[p] * yi;
                 const double l_ki = yi / d_[i];
+                if (!pair) {
+                    for (int p = a.lp_[i]; p < p2; ++p) y_[li_[p]] -= lx_[p] * yi;
+                    d_[k] -= l_ki * yi;
+                    li_[p2] = k;
+                    lx_[p2] = l_ki;
+                    ++lnz_[i];
+                    continue;
+                }
+                const double zi = y2_[i];
+                y2_[i] = 0.0;
+                for (int p = a.lp_[i]; p < p2; ++p) {
+                    y_[li_[p]] -= lx_[p] * yi;
+                    y2_[li_[p]] -= lx_[p] * zi;
+                }
+                const double l_k1i = zi / d_[i];
                 d_[k] -= l_ki * yi;
-                li_[p2] = k;
-                lx_[p2] = l_ki;
-                ++lnz_[i];
+                y2_k -= l_ki * zi;  // row k's entry of column i, as a single row k + 1 would meet it
+                d2 -= l_k1i * zi;
+                li_[p2] = k, lx_[p2] = l_ki;
+                li_[p2 + 1] = k + 1, lx_[p2 + 1] = l_k1i;
+                lnz_[i] += 2;
             }
             if (!(d_[k] > 0)) {  // positive definite: every pivot positive
                 ok_ = false;
                 break;
             }
+            if (!pair) {
+                ++k;
+                continue;
+            }
+            // Row k + 1's last column, k (the ancestor of every other column it reaches).
+            const double l = y2_k / d_[k];
+            d2 -= l * y2_k;
+            li_[a.lp_[k]] = k + 1, lx_[a.lp_[k]] = l;
+            lnz_[k] = 1;
+            d_[k + 1] = d2;
+            if (!(d2 > 0)) {
+                ok_ = false;
+                break;
+            }
+            k += 2;
         }
         return ok_;
     }

@@ -41,7 +41,7 @@ class CholeskyFactor {
     bool ok_ = false;
     // The analysis' own LDL^T (CholeskyAnalysis::own_ldl): L by columns, D, and workspace.
     std::vector<int> li_, lnz_, flag_, pattern_;
-    std::vector<double> lx_, d_, y_;
+    std::vector<double> lx_, d_, y_, y2_;  // y2_: the second row of a pair
 };
 
 // The symbolic analysis of one pattern: upper triangle of a symmetric n x n matrix in
@@ -52,7 +52,13 @@ class CholeskyAnalysis {
     // own on CHOLMOD's fill-reducing ordering (Davis' LDL algorithm) instead of CHOLMOD's: the
     // permuted pattern is made once here, where CHOLMOD permutes (transposes) the matrix before
     // every factorisation. Same ordering, same factor to round-off.
-    CholeskyAnalysis(int n, const std::vector<int>& column_start, const std::vector<int>& row, bool own_ldl = false);
+    // node_of (own_ldl only): a node for each column, columns of one node touching the same
+    // entries (a network's corner and its two coordinates). The fill-reducing ordering is then
+    // AMD's on the nodes' quotient graph, and where the factorisation is simplicial CHOLMOD is
+    // not called at all: the Monte Carlo's clusters, each analysed once, pay a fraction of the
+    // symbolic set-up.
+    CholeskyAnalysis(int n, const std::vector<int>& column_start, const std::vector<int>& row, bool own_ldl = false,
+                     const std::vector<int>* node_of = nullptr);
     ~CholeskyAnalysis();
     CholeskyAnalysis(const CholeskyAnalysis&) = delete;
     CholeskyAnalysis& operator=(const CholeskyAnalysis&) = delete;
@@ -61,16 +67,24 @@ class CholeskyAnalysis {
     double factor_flops() const;   // floating-point operations of one numeric factorisation
     bool supernodal() const;
     bool own_ldl() const { return !perm_.empty(); }
+    bool cholmod_analysed() const { return common_ != nullptr; }
+    int paired_rows() const;  // own LDL^T: pairs of rows factorised together
 
    private:
     friend class CholeskyFactor;
+    // The own LDL^T's set-up on the ordering perm.
+    void own_symbolic(const std::vector<int>& perm, const std::vector<int>& column_start, const std::vector<int>& row);
     int n_;
-    void* common_ = nullptr;    // cholmod_common*
+    std::size_t nnz_;           // entries of the pattern
+    double own_nonzeros_ = 0, own_flops_ = 0;  // analysed without CHOLMOD: its nnz(L) and flops
+    void* common_ = nullptr;    // cholmod_common* (nullptr: analysed without CHOLMOD)
     void* matrix_ = nullptr;    // cholmod_sparse* (pattern; values written before each factorisation)
     void* symbolic_ = nullptr;  // cholmod_factor*
     // own_ldl: the ordering, the upper triangle of P A P^T in compressed columns with the index
     // of each entry's value in the caller's pattern, the elimination tree and column pointers of L.
+    // pair_[k]: rows k and k + 1 have the same pattern below the diagonal, factorised together.
     std::vector<int> perm_, ap_, ai_, value_of_, parent_, lp_;
+    std::vector<char> pair_;
 };
 
 }  // namespace pyfrustrate

@@ -101,47 +101,65 @@ std::shared_ptr<RelaxedCluster> factorised_cluster(const Model& model, const Top
     return out;
 }
 
-// The corners of particles without a known displacement (known[c] == 0) placed by the rigid
-// motion of their reference corners that best fits their known ones (least squares; the
-// translation alone if one is known). Returns the largest distance of a known corner of such a
-// particle from that fit: a particle that bridges corners its neighbours left far apart starts
-// under a large strain.
+// Particle p's corners without a known displacement (known[c] == 0) placed by the rigid motion
+// of its reference corners that best fits its corners with one (known[c] != 0; least squares,
+// the translation alone if one is known); each placed corner is marked known[c] = 2 and, if
+// new_dof is given, its two degrees of freedom appended to it. Returns the largest distance of a
+// corner with known[c] == 1 from that fit (0 if p has no known corner, and then nothing is
+// placed): a particle that bridges corners its neighbours left far apart starts under a large
+// strain. The one rigid fit of a joining particle, for the parent's factor (below) and the Monte
+// Carlo's warm starts (montecarlo/chain.hpp).
+inline double fit_particle_corners(const Topology& topology, int p, Vector& u, std::vector<int>& known,
+                                   std::vector<int>* new_dof = nullptr) {
+    const int C = topology.tiling().corners;
+    Vec2 r_mean = Vec2::Zero(), x_mean = Vec2::Zero();
+    int n = 0;
+    for (int s = 0; s < C; ++s) {
+        const int c = topology.corner[p][s];
+        if (!known[c]) continue;
+        r_mean += topology.reference[c];
+        x_mean += topology.reference[c] + u.segment<2>(2 * c);
+        ++n;
+    }
+    if (n == 0) return 0.0;
+    r_mean /= n, x_mean /= n;
+    double sin_sum = 0, cos_sum = 0;
+    for (int s = 0; s < C; ++s) {
+        const int c = topology.corner[p][s];
+        if (!known[c]) continue;
+        const Vec2 r = topology.reference[c] - r_mean, x = topology.reference[c] + u.segment<2>(2 * c) - x_mean;
+        sin_sum += r.x() * x.y() - r.y() * x.x();
+        cos_sum += r.dot(x);
+    }
+    const double angle = n > 1 ? std::atan2(sin_sum, cos_sum) : 0.0;
+    Mat2 rotation;
+    rotation << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+    double misfit = 0;
+    for (int s = 0; s < C; ++s) {
+        const int c = topology.corner[p][s];
+        const Vec2 fit = x_mean + rotation * (topology.reference[c] - r_mean) - topology.reference[c];
+        if (known[c] == 1) {
+            misfit = std::max(misfit, (fit - u.segment<2>(2 * c)).norm());
+        } else if (!known[c]) {
+            u.segment<2>(2 * c) = fit;
+            known[c] = 2;
+            if (new_dof) new_dof->push_back(2 * c), new_dof->push_back(2 * c + 1);
+        }
+    }
+    return misfit;
+}
+
+// The corners of particles without a known displacement (known[c] == 0) placed by
+// fit_particle_corners, particle by particle (a corner placed for one particle counts in the
+// fits of later ones, not in their misfit); known is 0/1 again afterwards. Returns the largest
+// misfit.
 inline double place_unknown_corners(const Topology& topology, Vector& u, std::vector<int>& known) {
     double misfit = 0;
     const int C = topology.tiling().corners;
     for (int p = 0; p < topology.n_particles(); ++p) {
-        Vec2 r_mean = Vec2::Zero(), x_mean = Vec2::Zero();
-        int n = 0;
-        for (int s = 0; s < C; ++s) {
-            const int c = topology.corner[p][s];
-            if (!known[c]) continue;
-            r_mean += topology.reference[c];
-            x_mean += topology.reference[c] + u.segment<2>(2 * c);
-            ++n;
-        }
-        if (n == 0 || n == C) continue;
-        r_mean /= n, x_mean /= n;
-        double sin_sum = 0, cos_sum = 0;
-        for (int s = 0; s < C; ++s) {
-            const int c = topology.corner[p][s];
-            if (!known[c]) continue;
-            const Vec2 r = topology.reference[c] - r_mean, x = topology.reference[c] + u.segment<2>(2 * c) - x_mean;
-            sin_sum += r.x() * x.y() - r.y() * x.x();
-            cos_sum += r.dot(x);
-        }
-        const double angle = n > 1 ? std::atan2(sin_sum, cos_sum) : 0.0;
-        Mat2 rotation;
-        rotation << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
-        for (int s = 0; s < C; ++s) {
-            const int c = topology.corner[p][s];
-            const Vec2 fit = x_mean + rotation * (topology.reference[c] - r_mean) - topology.reference[c];
-            if (known[c] == 1) {
-                misfit = std::max(misfit, (fit - u.segment<2>(2 * c)).norm());
-            } else if (!known[c]) {
-                u.segment<2>(2 * c) = fit;
-                known[c] = 2;  // placed: not a known corner for the fits of other particles
-            }
-        }
+        bool has_unknown = false;
+        for (int s = 0; s < C; ++s) has_unknown = has_unknown || !known[topology.corner[p][s]];
+        if (has_unknown) misfit = std::max(misfit, fit_particle_corners(topology, p, u, known));
     }
     for (int& k : known) k = k ? 1 : 0;
     return misfit;

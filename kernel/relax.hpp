@@ -110,8 +110,16 @@ class StiffnessCache {
     const HessianPattern& pattern(const Network<Model>& net) {
         if (!pattern_) {
             pattern_ = std::make_unique<HessianPattern>(net.hessian_pattern(pins_));
-            analysis_ =
-                std::make_shared<CholeskyAnalysis>(pattern_->n_free, pattern_->column_start, pattern_->row, own_ldl_);
+            // Own LDL^T: the ordering from the graph of corners (and period vectors), the two
+            // coordinates of each one node.
+            std::vector<int> node_of;
+            if (own_ldl_) {
+                node_of.resize(pattern_->n_free);
+                for (size_t d = 0; d < pattern_->free_index.size(); ++d)
+                    if (pattern_->free_index[d] >= 0) node_of[pattern_->free_index[d]] = static_cast<int>(d / 2);
+            }
+            analysis_ = std::make_shared<CholeskyAnalysis>(pattern_->n_free, pattern_->column_start, pattern_->row,
+                                                           own_ldl_, own_ldl_ ? &node_of : nullptr);
         }
         return *pattern_;
     }

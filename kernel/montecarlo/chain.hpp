@@ -740,42 +740,9 @@ inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<doub
         for (int p = 0; p < np; ++p) {
             if (site_known_[cl.members[p]]) continue;
             unknown_particle = p;
-            // The rigid motion of its reference corners that best fits its known corners
-            // (least squares; the translation alone if only one is known).
-            Vec2 r_mean = Vec2::Zero(), x_mean = Vec2::Zero();
-            int n = 0;
-            for (int s = 0; s < C; ++s) {
-                const int c = topology.corner[p][s];
-                if (count[c] == 0) continue;
-                r_mean += topology.reference[c];
-                x_mean += topology.reference[c] + start.segment<2>(2 * c);
-                ++n;
-            }
-            if (n == 0) continue;
-            r_mean /= n, x_mean /= n;
-            double sin_sum = 0, cos_sum = 0;
-            for (int s = 0; s < C; ++s) {
-                const int c = topology.corner[p][s];
-                if (count[c] == 0) continue;
-                const Vec2 r = topology.reference[c] - r_mean, x = topology.reference[c] + start.segment<2>(2 * c) - x_mean;
-                sin_sum += r.x() * x.y() - r.y() * x.x();
-                cos_sum += r.dot(x);
-            }
-            const double angle = n > 1 ? std::atan2(sin_sum, cos_sum) : 0.0;
-            Mat2 rotation;
-            rotation << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
-            for (int s = 0; s < C; ++s) {
-                const int c = topology.corner[p][s];
-                if (count[c] > 0) {
-                    misfit = std::max(misfit, (x_mean + rotation * (topology.reference[c] - r_mean) - topology.reference[c] -
-                                               start.segment<2>(2 * c)).norm());
-                    continue;
-                }
-                if (count[c] != 0) continue;
-                start.segment<2>(2 * c) = x_mean + rotation * (topology.reference[c] - r_mean) - topology.reference[c];
-                count[c] = 1;
-                new_dof.push_back(2 * c), new_dof.push_back(2 * c + 1);
-            }
+            std::vector<int> known_corner(nc);
+            for (int c = 0; c < nc; ++c) known_corner[c] = count[c] > 0;
+            misfit = fit_particle_corners(topology, p, start, known_corner, &new_dof);
         }
     }
     // A new particle that bridges corners the parents left far from a rigid fit starts under a
