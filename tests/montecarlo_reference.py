@@ -11,7 +11,15 @@ numbers them. ``wrong`` names one deliberately wrong rule:
 
 ``"double_deformation"``  the deformation part of the energy change counted twice;
 ``"link_p"``              ``link**(b' - b)`` in place of ``(1 - link)**(b' - b)``;
-``"no_surface_ratio"``    surface moves accepted without their Hastings ratio.
+``"no_surface_ratio"``    surface moves accepted without their Hastings ratio;
+``"no_isometry_factor"``  isometry moves accepted without ``(1 - link)**(b' - b)``;
+``"uneven_rotation"``     rotations turn by +60 degrees four times as often as by -60, with no
+                          Hastings ratio for it (the reverse turn is then proposed less often).
+
+Isometry moves (``kernel/montecarlo/isometry_move.hpp``): a set grown as for the cluster move,
+seeded at a random particle, then shifted by one of the six neighbour vectors, turned by +-60
+degrees about the seed's site, or mirrored about one of the six axes through it; Hastings factor
+``(1 - link)**(b' - b)``. The maps are written here as integer matrices on lattice coordinates.
 
 A chain with the right rules must sample the exact Boltzmann weights; with a wrong one, it must
 not, by the same statistic and at the same sample size as the kernel's test.
@@ -25,7 +33,13 @@ import numpy as np
 from pyfrustrate import topology as T
 
 NEIGHBOURS = [tuple(int(x) for x in d) for d in T.NEIGHBOURS]
-WRONG_RULES = ("double_deformation", "link_p", "no_surface_ratio")
+WRONG_RULES = ("double_deformation", "link_p", "no_surface_ratio", "no_isometry_factor", "uneven_rotation")
+TURN = np.array([[0, -1], [1, 1]])  # +60 degrees: (i, j) -> (-j, i + j)
+MIRROR = np.array([[-1, -1], [0, 1]])  # about the axis at 90 degrees: (i, j) -> (-i - j, j)
+#: The isometries' linear parts: the two turns, and the six mirrors (the mirror turned by k 60 degrees).
+TURNS = (TURN, np.linalg.matrix_power(TURN, 5))
+MIRRORS = tuple(np.linalg.matrix_power(TURN, k) @ MIRROR for k in range(6))
+ISOMETRY_KINDS = ("shift", "rotation", "reflection")
 
 
 def bonds_of(state, box):
@@ -39,7 +53,8 @@ class ReferenceChain:
     """Metropolis-Hastings over the enumerated ``states`` with energies ``E`` (``bonds`` per state,
     so that ``E + g bonds`` is the deformation part)."""
 
-    def __init__(self, states, E, g, box, *, surface_moves=0.0, cluster_moves=0.0, link=1.0, wrong=None, seed=0):
+    def __init__(self, states, E, g, box, *, surface_moves=0.0, cluster_moves=0.0, link=1.0, isometry_moves=None,
+                 isometry_link=0.3, wrong=None, seed=0):
         if wrong not in (None,) + WRONG_RULES:
             raise ValueError(f"wrong must be one of {WRONG_RULES} or None, got {wrong!r}")
         self.index = {s: k for k, s in enumerate(states)}
@@ -47,6 +62,11 @@ class ReferenceChain:
         self.deformation = self.E + g * np.array([bonds_of(s, box) for s in states])
         self.box, self.g = box, g
         self.surface_moves, self.cluster_moves, self.link, self.wrong = surface_moves, cluster_moves, link, wrong
+        # {"shift": probability, ...}: tried in that order before the other moves, as the kernel does
+        self.isometry_moves = dict(isometry_moves or {})
+        if set(self.isometry_moves) - set(ISOMETRY_KINDS):
+            raise ValueError(f"isometry_moves: keys must be among {ISOMETRY_KINDS}, got {sorted(self.isometry_moves)}")
+        self.isometry_link = isometry_link
         self.rng = np.random.default_rng(seed)
         self.neighbours = [[((k % box + di) % box) + box * ((k // box + dj) % box) for di, dj in NEIGHBOURS]
                            for k in range(box * box)]
@@ -83,28 +103,61 @@ class ReferenceChain:
         log_ratio = math.log(len(surface) * len(perimeter) / (len(surface_after) * len(perimeter_after)))
         return a, b, 0.0 if self.wrong == "no_surface_ratio" else log_ratio
 
+    def _grow(self, a, occupied, link):
+        grown, queue = {a}, [a]
+        for s in queue:  # every bond from the set to the rest tested once
+            for u in self.neighbours[s]:
+                if u in occupied and u not in grown and self.rng.random() < link:
+                    grown.add(u)
+                    queue.append(u)
+        return grown
+
+    def _moved(self, grown, occupied, image, factor):
+        """(occupancy after, log Hastings factor) of the set ``grown`` sent to ``image(site)``, or None."""
+        rest = occupied - grown
+        moved = {image(s) for s in grown}
+        if moved & rest:
+            return None
+        before = sum(u in rest for s in grown for u in self.neighbours[s])
+        after = sum(u in rest for s in moved for u in self.neighbours[s])
+        if after != before and factor == 0:
+            return None
+        return rest | moved, (after - before) * math.log(factor) if after != before else 0.0
+
+    def _site(self, i, j):
+        return int(i) % self.box + self.box * (int(j) % self.box)
+
     def _cluster_proposal(self, occupied):
         a = sorted(occupied)[self.rng.integers(len(occupied))]
         shift = (int(self.rng.integers(self.box)), int(self.rng.integers(self.box)))
         if shift == (0, 0):
             return None
-        grown, queue = {a}, [a]
-        for s in queue:  # every bond from the set to the rest tested once
-            for u in self.neighbours[s]:
-                if u in occupied and u not in grown and self.rng.random() < self.link:
-                    grown.add(u)
-                    queue.append(u)
-        rest = occupied - grown
-        moved = {((s % self.box + shift[0]) % self.box) + self.box * ((s // self.box + shift[1]) % self.box)
-                 for s in grown}
-        if moved & rest:
-            return None
-        before = sum(u in rest for s in grown for u in self.neighbours[s])
-        after = sum(u in rest for s in moved for u in self.neighbours[s])
+        grown = self._grow(a, occupied, self.link)
         factor = self.link if self.wrong == "link_p" else 1.0 - self.link
-        if after != before and factor == 0:
-            return None
-        return rest | moved, (after - before) * math.log(factor) if after != before else 0.0
+        return self._moved(grown, occupied, lambda s: self._site(s % self.box + shift[0], s // self.box + shift[1]),
+                           factor)
+
+    def _isometry_proposal(self, occupied, kind):
+        a = sorted(occupied)[self.rng.integers(len(occupied))]
+        seed = np.array([a % self.box, a // self.box])
+        if kind == "shift":
+            step = np.array(NEIGHBOURS[self.rng.integers(len(NEIGHBOURS))])
+            linear = np.eye(2, dtype=int)
+        elif kind == "rotation":
+            step = np.zeros(2, int)
+            plus = 0.8 if self.wrong == "uneven_rotation" else 0.5
+            linear = TURNS[0 if self.rng.random() < plus else 1]
+        else:
+            step = np.zeros(2, int)
+            linear = MIRRORS[self.rng.integers(len(MIRRORS))]
+        grown = self._grow(a, occupied, self.isometry_link)
+        factor = 1.0 if self.wrong == "no_isometry_factor" else 1.0 - self.isometry_link
+
+        def image(s):  # seed + linear (x - seed) + step; the box's periods map to periods
+            i, j = seed + linear @ (np.array([s % self.box, s // self.box]) - seed) + step
+            return self._site(i, j)
+
+        return self._moved(grown, occupied, image, factor)
 
     def run(self, start, T_, samples):
         """The state index after each of ``samples`` attempted moves at temperature ``T_``."""
@@ -113,7 +166,13 @@ class ReferenceChain:
         visited = np.empty(samples, np.int64)
         for step in range(samples):
             u = self.rng.random()
-            if u < self.cluster_moves:
+            # As the kernel: a family that is off draws no deviate.
+            kind = next((k for k in ISOMETRY_KINDS
+                         if self.isometry_moves.get(k, 0.0) > 0 and self.rng.random() < self.isometry_moves[k]), None)
+            if kind is not None:
+                proposal = self._isometry_proposal(occupied, kind)
+                new_occupied, log_hastings = proposal if proposal else (None, 0.0)
+            elif u < self.cluster_moves:
                 proposal = self._cluster_proposal(occupied)
                 new_occupied, log_hastings = proposal if proposal else (None, 0.0)
             else:

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "montecarlo/cluster_move.hpp"
+#include "montecarlo/isometry_move.hpp"
 #include "montecarlo/particle_move.hpp"
 #include "montecarlo/surface_move.hpp"
 
@@ -11,7 +12,7 @@
 
 namespace pyfrustrate {
 
-using MoveFamilies = std::tuple<ClusterMove, SurfaceMove, ParticleMove>;
+using MoveFamilies = std::tuple<ClusterMove, ShiftMove, RotationMove, ReflectionMove, SurfaceMove, ParticleMove>;
 
 template <class Tuple>
 struct CountersOf;
