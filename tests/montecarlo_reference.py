@@ -13,8 +13,9 @@ numbers them. ``wrong`` names one deliberately wrong rule:
 ``"link_p"``              ``link**(b' - b)`` in place of ``(1 - link)**(b' - b)``;
 ``"no_surface_ratio"``    surface moves accepted without their Hastings ratio;
 ``"no_isometry_factor"``  isometry moves accepted without ``(1 - link)**(b' - b)``;
-``"uneven_rotation"``     rotations turn by +60 degrees four times as often as by -60, with no
-                          Hastings ratio for it (the reverse turn is then proposed less often).
+``"stale_rest"``          isometry moves count the bonds after the move (b') as if the set's old
+                          sites were still occupied, the slip an in-place move invites (a turned or
+                          mirrored set always overlaps its image at the seed).
 
 Isometry moves (``kernel/montecarlo/isometry_move.hpp``): a set grown as for the cluster move,
 seeded at a random particle, then shifted by one of the six neighbour vectors, turned by +-60
@@ -33,7 +34,7 @@ import numpy as np
 from pyfrustrate import topology as T
 
 NEIGHBOURS = [tuple(int(x) for x in d) for d in T.NEIGHBOURS]
-WRONG_RULES = ("double_deformation", "link_p", "no_surface_ratio", "no_isometry_factor", "uneven_rotation")
+WRONG_RULES = ("double_deformation", "link_p", "no_surface_ratio", "no_isometry_factor", "stale_rest")
 TURN = np.array([[0, -1], [1, 1]])  # +60 degrees: (i, j) -> (-j, i + j)
 MIRROR = np.array([[-1, -1], [0, 1]])  # about the axis at 90 degrees: (i, j) -> (-i - j, j)
 #: The isometries' linear parts: the two turns, and the six mirrors (the mirror turned by k 60 degrees).
@@ -112,14 +113,16 @@ class ReferenceChain:
                     queue.append(u)
         return grown
 
-    def _moved(self, grown, occupied, image, factor):
-        """(occupancy after, log Hastings factor) of the set ``grown`` sent to ``image(site)``, or None."""
+    def _moved(self, grown, occupied, image, factor, stale=False):
+        """(occupancy after, log Hastings factor) of the set ``grown`` sent to ``image(site)``, or
+        None; ``stale``: b' counted against the rest and the set's old sites (wrong)."""
         rest = occupied - grown
         moved = {image(s) for s in grown}
         if moved & rest:
             return None
         before = sum(u in rest for s in grown for u in self.neighbours[s])
-        after = sum(u in rest for s in moved for u in self.neighbours[s])
+        after_rest = (occupied - moved) if stale else rest
+        after = sum(u in after_rest for s in moved for u in self.neighbours[s])
         if after != before and factor == 0:
             return None
         return rest | moved, (after - before) * math.log(factor) if after != before else 0.0
@@ -145,8 +148,7 @@ class ReferenceChain:
             linear = np.eye(2, dtype=int)
         elif kind == "rotation":
             step = np.zeros(2, int)
-            plus = 0.8 if self.wrong == "uneven_rotation" else 0.5
-            linear = TURNS[0 if self.rng.random() < plus else 1]
+            linear = TURNS[self.rng.integers(len(TURNS))]
         else:
             step = np.zeros(2, int)
             linear = MIRRORS[self.rng.integers(len(MIRRORS))]
@@ -157,7 +159,7 @@ class ReferenceChain:
             i, j = seed + linear @ (np.array([s % self.box, s // self.box]) - seed) + step
             return self._site(i, j)
 
-        return self._moved(grown, occupied, image, factor)
+        return self._moved(grown, occupied, image, factor, stale=self.wrong == "stale_rest")
 
     def run(self, start, T_, samples):
         """The state index after each of ``samples`` attempted moves at temperature ``T_``."""
