@@ -1,9 +1,8 @@
 # Monte Carlo annealing of aggregate topologies (Fig. 3b snapshots). One job per run; a run
 # interrupted mid-way resumes from its checkpoint.
-rule montecarlo_run:
-    output:
-        "results/montecarlo/runs/{kind}_nu{nu}_G{Gamma}_seed{seed}.npz",
-    params:
+def mc_run_params():
+    """The params of a Monte Carlo run, every kind (montecarlo_run.py)."""
+    return dict(
         nu=lambda w: float(w.nu),
         Gamma=lambda w: float(w.Gamma),
         seed=lambda w: int(w.seed),
@@ -19,11 +18,19 @@ rule montecarlo_run:
         surface_moves=per_box(MC, "surface_moves"),
         exchange=exchange_after_anneal(MC),
         **pick(MC, "ell", "eps", "tol", "cluster_moves", "cluster_link"),
+    )
+
+
+rule montecarlo_run:
+    output:
+        "results/montecarlo/runs/{kind}_nu{nu}_G{Gamma}_seed{seed}.npz",
+    params:
+        **mc_run_params(),
     # The anneal is serial; the replica exchange after it runs its replicas on this many threads
     # (raise it with --set-threads montecarlo_run=N where a job may have N cores).
     threads: 1
     wildcard_constraints:
-        kind="sparse|dense|large|sparse_supplement|dense_supplement",
+        kind="sparse|dense|sparse_supplement|dense_supplement",
         seed=r"\d+",
     conda:
         "../envs/pyfrustrate.yaml"
@@ -34,6 +41,18 @@ rule montecarlo_run:
         "results/benchmarks/montecarlo_run/{kind}_nu{nu}_G{Gamma}_seed{seed}.tsv"
     script:
         "../scripts/montecarlo_run.py"
+
+
+# The large box's runs (figX_mc_scale, figX_mc_finite_size; issue 33, item 3): the same script
+# with collective isometry moves and a schedule that dwells in the reshaping window
+# (MC["large_collective"]), in a rule of their own so that the other kinds' params stay as they were.
+use rule montecarlo_run as montecarlo_large_run with:
+    params:
+        **mc_run_params(),
+        collective=MC["large_collective"],
+    wildcard_constraints:
+        kind="large",
+        seed=r"\d+",
 
 
 rule montecarlo_diagram:
