@@ -245,9 +245,11 @@ rule montecarlo_validation:
         points=[validation_point_file(*point) for point in validation_points()],
         samples=validation_sample_files(),
         two_sided=validation_two_sided_files(),
+        scale=rules.montecarlo_scale.output,  # large_runs: the scale scans judged by structure
     output:
         "results/montecarlo/validation.json",
     params:
+        large_points=mc_scale_points(),
         seeds=VALIDATION["seeds"],
         fibre_length=VALIDATION["fibre_length"],
         estimate_particles=VALIDATION["estimate_particles"],
