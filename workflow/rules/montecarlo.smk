@@ -49,7 +49,8 @@ rule montecarlo_run:
 use rule montecarlo_run as montecarlo_large_run with:
     params:
         **mc_run_params(),
-        collective=MC["large_collective"],
+        # Keys sorted: the same params whatever the order of the configuration file.
+        collective=dict(sorted(MC["large_collective"].items())),
     wildcard_constraints:
         kind="large",
         seed=r"\d+",
