@@ -508,6 +508,14 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
         (refused when the reverse move could not be proposed): the bond-neutral jumps between the
         kinks of an aggregate's outline, proposed far more often than by the other moves.
 
+        ``shift_moves``, ``rotation_moves``, ``reflection_moves`` in [0, 1] (0 by default): the
+        probabilities of the collective isometry moves, a set grown from a random seed particle
+        (each bond followed with probability ``isometry_link``) shifted to a neighbouring site,
+        turned by +-60 degrees about the seed's site or mirrored about an axis through it,
+        accepted with ``min(1, exp(-dE/T) (1 - isometry_link)**(b' - b))``: they straighten and
+        compact aggregates in place. Hexagon tiling only for turns and mirrors (a ``ValueError``
+        from the run otherwise).
+
         ``max_iter``: cap on energy evaluations per L-BFGS relaxation; ``cache``: the cache of
         relaxed energies by shape (speed only).
     checkpoint : path or None
