@@ -39,18 +39,19 @@ def kind_name(kind):
 
 
 def verdict_text(scale, k):
-    """A run's structure, the prediction's in brackets where it differs: e.g. "1 fibre, 9.0 rows
-    (8.2)", "2 disks (pred. 1)", "1 fibre (disk)"."""
+    """A run's structure, the prediction's in brackets where it differs: e.g. "1 fibre, 9 rows (8)",
+    "2 disks (1)", "1 fibre (4 disks)"."""
     count, kind = int(scale["verdict_count"][k]), str(scale["verdict_kind"][k])
     text = f"{count} {kind_name(kind)}{'s' if count != 1 else ''}"
+    predicted, count_predicted = [], int(scale["verdict_count_predicted"][k])
+    if count_predicted != count:
+        predicted.append(str(count_predicted))
     if kind != str(scale["verdict_kind_predicted"][k]):
-        text += f" ({kind_name(scale['verdict_kind_predicted'][k])})"
-    if int(scale["verdict_count_predicted"][k]) != count:
-        text += f" (pred. {int(scale['verdict_count_predicted'][k])})"
+        predicted.append(kind_name(scale["verdict_kind_predicted"][k]) + ("s" if count_predicted > 1 else ""))
     width = float(scale["verdict_width"][k])
     if np.isfinite(width):
-        text += f", {width:.1f} rows ({float(scale['verdict_width_predicted'][k]):.1f})"
-    return text
+        text += f", {width:.0f} rows ({float(scale['verdict_width_predicted'][k]):.0f})"
+    return text + (f" ({' '.join(predicted)})" if predicted else "")
 
 
 def main(scale_path, run_paths, points, outputs, provenance=None):
@@ -67,12 +68,12 @@ def main(scale_path, run_paths, points, outputs, provenance=None):
     shown = [(scans, nu, G, runs.get((nu, G, seeds[0]))) for (nu, G), scans in scans_at.items()]
     shown = [item for item in shown if item[3] is not None]
     # Page layout in cm, from the bottom: the snapshots (square, as wide as a column of them
-    # allows, so that no blank band surrounds their drawings) and their two-line titles, room for
+    # allows, so that no blank band surrounds their drawings) and their three-line titles, room for
     # the scans' axis labels, the scans' axes and their titles.
     page_w = plotting.PAGE_WIDTH_CM
     slot = (page_w - 0.3) / max(len(shown), 1)
     side = min(slot - 0.15, 4.0)
-    scans_bottom = 0.1 + side + 0.75 + 1.05
+    scans_bottom = 0.1 + side + 1.0 + 1.05
     scans_height = 3.9
     page_h = scans_bottom + scans_height + 0.7
     fig = plotting.figure(page_w, page_h)
@@ -126,7 +127,7 @@ def main(scale_path, run_paths, points, outputs, provenance=None):
         ax.set_xticks([])
         ax.set_yticks([])
         k = rows_of(scale, nu, G)[0]
-        ax.set_title(f"$\\nu$ = {nu:g}, $\\Gamma$ = {G:g}: {verdict_text(scale, k)}\n"
+        ax.set_title(f"$\\nu$ = {nu:g}, $\\Gamma$ = {G:g}\n{verdict_text(scale, k)}\n"
                      f"{float(scale['gap_ground'][k]):+.1f} $e_{{\\rm bulk}}$", fontsize=7)
     plotting.save(fig, outputs, provenance)
 

@@ -119,12 +119,12 @@ with logging_to(snakemake.log[0]):  # noqa: F821
                                nu=at[0], Gamma=at[1], seed=int(scale["seed"][k]), n=int(scale["n"][k]),
                                gap=float(scale["gap_ground"][k]), cpu_seconds=float(scale["cpu_seconds"][k]),
                                **{key: None if isinstance(v, float) and np.isnan(v) else v for key, v in fields.items()}))
-    seconds = [r["cpu_seconds"] for r in large_runs if np.isfinite(r["cpu_seconds"])]
+    cpu_seconds = [r["cpu_seconds"] for r in large_runs if np.isfinite(r["cpu_seconds"])]
     large_summary = dict(runs=len(large_runs), structure_match=sum(r["structure_match"] for r in large_runs),
                          gap_ok=sum(r["gap_ok"] for r in large_runs),
                          structure_match_and_gap_ok=sum(r["structure_match"] and r["gap_ok"] for r in large_runs),
-                         cpu_seconds_max=max(seconds) if seconds else None,
-                         cpu_minutes_max=max(seconds) / 60 if seconds else None)
+                         cpu_seconds_max=max(cpu_seconds) if cpu_seconds else None,
+                         cpu_minutes_max=max(cpu_seconds) / 60 if cpu_seconds else None)
     print(f"large runs: {large_summary}")
     save_json(snakemake.output[0], dict(  # noqa: F821
         points=records, scale=dict(p.scale), timing=timing, large_runs=large_runs, large_summary=large_summary,
