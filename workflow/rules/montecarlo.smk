@@ -1,26 +1,5 @@
 # Monte Carlo annealing of aggregate topologies (Fig. 3b snapshots). One job per run; a run
 # interrupted mid-way resumes from its checkpoint.
-def mc_run_params():
-    """The params of a Monte Carlo run, every kind (montecarlo_run.py)."""
-    return dict(
-        nu=lambda w: float(w.nu),
-        Gamma=lambda w: float(w.Gamma),
-        seed=lambda w: int(w.seed),
-        kind=lambda w: w.kind.split("_")[0],
-        convention=lambda w: w.kind.split("_")[1] if "_" in w.kind else "measured",
-        tiling="hexagon",
-        checkpoint_stem=lambda w: f"results/montecarlo/checkpoints/{w.kind}_nu{w.nu}_G{w.Gamma}_seed{w.seed}",
-        n=per_box(MC, "n"),
-        box=per_box(MC, "box"),
-        method=per_box(MC, "method"),
-        sweeps=per_box(MC, "sweeps"),
-        bonded_moves=per_box(MC, "bonded_moves"),
-        surface_moves=per_box(MC, "surface_moves"),
-        exchange=exchange_after_anneal(MC),
-        **pick(MC, "ell", "eps", "tol", "cluster_moves", "cluster_link"),
-    )
-
-
 rule montecarlo_run:
     output:
         "results/montecarlo/runs/{kind}_nu{nu}_G{Gamma}_seed{seed}.npz",
