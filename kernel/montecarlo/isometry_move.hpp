@@ -14,9 +14,14 @@
 // F(S) (G keeps the bonds inside S) times (1 - p)^b', and draws G's inverse: -e for a shift e,
 // -60 for +60 degrees, the same mirror for a mirror, each drawn with the same probability as G
 // (uniform over the six vectors, the two senses, the six axes). So the proposal is symmetric up
-// to (1 - p)^(b' - b), which Metropolis-Hastings takes as in the cluster move. An uneven choice
-// of sense (say +60 more often than -60) would break that symmetry:
-// tests/test_montecarlo_rules.py shows the exact-enumeration statistic rejecting it.
+// to (1 - p)^(b' - b), which Metropolis-Hastings takes as in the cluster move. b' counts the
+// bonds from the moved set to the particles that stay, not to the set's old sites: a turned or
+// mirrored set always overlaps its image at the seed, and counting its old sites as occupied is
+// wrong (tests/test_montecarlo_rules.py shows the exact-enumeration statistic rejecting that rule,
+// and the factor dropped). An uneven choice of sense (+60 more often than -60) breaks detailed
+// balance too, but the enumerable boxes hardly show it: a set's six turns about its seed
+// alternate between two energies (the particle keeps its shape under turns by 120 degrees), where
+// a biased cycle still keeps the Boltzmann weights, so only collisions with the rest reveal it.
 //
 // The maps are exact integer operations on three times lattice coordinates (tiling.hpp). On the
 // torus they are well defined because each isometry sends the box's periods (L, 0) and (0, L) to
