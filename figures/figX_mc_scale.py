@@ -1,19 +1,22 @@
 """Beyond the paper: Fig. 3b's three line scans of annealing runs repeated in a larger box, each
-run judged against the predicted ground state of its own box (ell = 5).
+run judged by structure against the predicted ground state of its own box (ell = 5; issue 33,
+item 3).
 
 Top row, one panel per scan (the fibre scan at fixed nu, the disk scan at fixed nu, the nu scan
 at fixed Gamma): each marker is one run (one per seed), its final energy above the box's
 predicted ground state (ground_states.box_candidates: single aggregates, a fibre wrapping the
-box, several aggregates, the gas) in bulk particle energies e_bulk. Filled: the run ends in that
-ground state's structure (ground_states.structure); hollow: in another. The grey band is the
-equilibration criterion (within EQUILIBRATED_GAP e_bulk). Bottom row: the final state of the first
-seed at every distinct point of the scans (a point two scans share is drawn once), each centred
-on its largest cluster, all on one scale.
+box, several aggregates, the gas) in bulk particle energies e_bulk. Filled: the run's structure
+matches the prediction (ground_states.structure_verdict: aggregate count exact, fibre or disk as
+predicted, a fibre's width within one row); hollow: it does not. Green: within the energy gate
+max(EQUILIBRATED_GAP e_bulk, GATE_BONDS bonds) (the grey band and, where two bonds are worth
+more, the dashed line); orange: above it. Bottom row: the final state of the first seed at every
+distinct point of the scans (a point two scans share is drawn once), each centred on its largest
+cluster, all on one scale, titled with its verdict.
 """
 import numpy as np
 
 from pyfrustrate import plotting
-from pyfrustrate.ground_states import EQUILIBRATED_GAP
+from pyfrustrate.ground_states import EQUILIBRATED_GAP, GATE_BONDS
 from pyfrustrate.io import load_npz, logging_to
 from pyfrustrate.provenance import for_job
 from pyfrustrate.montecarlo import largest_cluster_extent
@@ -31,6 +34,26 @@ def rows_of(scale, nu, Gamma):
             if abs(scale["nu"][k] - nu) < 1e-9 and abs(scale["Gamma"][k] - Gamma) < 1e-9]
 
 
+def kind_name(kind):
+    return {"fiber": "fibre"}.get(str(kind), str(kind))
+
+
+def verdict_text(scale, k):
+    """A run's structure, the prediction's in brackets where it differs: e.g. "1 fibre, 9 rows (8)",
+    "2 disks (1)", "1 fibre (4 disks)"."""
+    count, kind = int(scale["verdict_count"][k]), str(scale["verdict_kind"][k])
+    text = f"{count} {kind_name(kind)}{'s' if count != 1 else ''}"
+    predicted, count_predicted = [], int(scale["verdict_count_predicted"][k])
+    if count_predicted != count:
+        predicted.append(str(count_predicted))
+    if kind != str(scale["verdict_kind_predicted"][k]):
+        predicted.append(kind_name(scale["verdict_kind_predicted"][k]) + ("s" if count_predicted > 1 else ""))
+    width = float(scale["verdict_width"][k])
+    if np.isfinite(width):
+        text += f", {width:.0f} rows ({float(scale['verdict_width_predicted'][k]):.0f})"
+    return text + (f" ({' '.join(predicted)})" if predicted else "")
+
+
 def main(scale_path, run_paths, points, outputs, provenance=None):
     scale = load_npz(scale_path)
     runs = {(round(float(r["nu"]), 9), round(float(r["Gamma"]), 9), int(r["seed"])): r
@@ -45,12 +68,12 @@ def main(scale_path, run_paths, points, outputs, provenance=None):
     shown = [(scans, nu, G, runs.get((nu, G, seeds[0]))) for (nu, G), scans in scans_at.items()]
     shown = [item for item in shown if item[3] is not None]
     # Page layout in cm, from the bottom: the snapshots (square, as wide as a column of them
-    # allows, so that no blank band surrounds their drawings) and their two-line titles, room for
+    # allows, so that no blank band surrounds their drawings) and their three-line titles, room for
     # the scans' axis labels, the scans' axes and their titles.
     page_w = plotting.PAGE_WIDTH_CM
     slot = (page_w - 0.3) / max(len(shown), 1)
     side = min(slot - 0.15, 4.0)
-    scans_bottom = 0.1 + side + 0.75 + 1.05
+    scans_bottom = 0.1 + side + 1.0 + 1.05
     scans_height = 3.9
     page_h = scans_bottom + scans_height + 0.7
     fig = plotting.figure(page_w, page_h)
@@ -66,12 +89,14 @@ def main(scale_path, run_paths, points, outputs, provenance=None):
             fixed = (r"$\nu$ = " + f"{nu:g}") if variable == "Gamma" else (r"$\Gamma$ = " + f"{G:g}")
             xs.append(x)
             for k in rows_of(scale, nu, G):
-                gap = float(scale["gap_ground"][k])
-                same = str(scale["structure"][k]) == str(scale["ground_family"][k])
+                gap, gate = float(scale["gap_ground"][k]), float(scale["verdict_gap_gate"][k])
+                if gate > EQUILIBRATED_GAP:  # two bonds are worth more than the band
+                    ax.plot([x - 0.04, x + 0.04], [gate, gate], "--", color="0.45", lw=0.7, zorder=2)
                 m = SEED_MARKERS[seeds.index(int(scale["seed"][k])) % len(SEED_MARKERS)]
-                color = WITHIN if gap <= EQUILIBRATED_GAP else ABOVE
-                ax.plot(x, gap, m, ms=5, mfc=color if same else "w", mec=color, mew=1.1, zorder=3)
-                highest = max(highest, gap)
+                color = WITHIN if bool(scale["verdict_gap_ok"][k]) else ABOVE
+                match = bool(scale["verdict_structure_match"][k])
+                ax.plot(x, gap, m, ms=5, mfc=color if match else "w", mec=color, mew=1.1, zorder=3)
+                highest = max(highest, gap, gate)
             ground = [str(scale["ground_family"][k]) for k in rows_of(scale, nu, G)][:1]
             if ground:
                 ax.annotate(plotting.structure_label(ground[0]).replace(" ", "\n", 1), (x, 0),
@@ -83,8 +108,9 @@ def main(scale_path, run_paths, points, outputs, provenance=None):
         ax.set_xlabel(label)
         ax.set_ylabel(r"$E - E_\mathrm{ground}$ ($e_{\rm bulk}$)" if i == 0 else "")
         in_scan = [k for _, nu, G in (p for p in points if p[0] == scan) for k in rows_of(scale, nu, G)]
-        within = int((scale["gap_ground"][in_scan] <= EQUILIBRATED_GAP).sum())
-        ax.set_title(f"{title}, {fixed}: {within} of {len(in_scan)} within {EQUILIBRATED_GAP:g}")
+        matched = int(scale["verdict_structure_match"][in_scan].astype(bool).sum())
+        gated = int(scale["verdict_gap_ok"][in_scan].astype(bool).sum())
+        ax.set_title(f"{title}, {fixed}:\n{matched} of {len(in_scan)} structures, {gated} within the gate")
         plotting.panel_label(ax, "abc"[i])
         if i == 0 and len(seeds) > 1:
             for s, seed in enumerate(seeds):
@@ -101,7 +127,7 @@ def main(scale_path, run_paths, points, outputs, provenance=None):
         ax.set_xticks([])
         ax.set_yticks([])
         k = rows_of(scale, nu, G)[0]
-        ax.set_title(f"$\\nu$ = {nu:g}, $\\Gamma$ = {G:g}\n"
+        ax.set_title(f"$\\nu$ = {nu:g}, $\\Gamma$ = {G:g}\n{verdict_text(scale, k)}\n"
                      f"{float(scale['gap_ground'][k]):+.1f} $e_{{\\rm bulk}}$", fontsize=7)
     plotting.save(fig, outputs, provenance)
 

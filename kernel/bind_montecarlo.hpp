@@ -296,7 +296,8 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
             "counters", [](MC& mc) { return counters_dict(mc.state); },
             "attempted, accepted, screened (rejected by the surrogate), cluster_attempted, cluster_accepted (cluster "
             "translations, counted in attempted/accepted too), cluster_rebonded (accepted translations that made or "
-            "broke bonds), surface_attempted, surface_accepted (surface moves, within attempted/accepted), "
+            "broke bonds), shift_, rotation_, reflection_attempted/accepted/rebonded (isometry moves, the same; rebonded: "
+            "changed the bond count), surface_attempted, surface_accepted (surface moves, within attempted/accepted), "
             "outline_attempted, outline_accepted, outline_inserted, outline_removed (grand-canonical moves), cache_hits, "
             "cache_misses, cache_clears, minimisations, evaluations (energy+gradient evaluations, 1 per linear "
             "solve), fallbacks (linear solve refused, done by L-BFGS), unconverged, factorizations, warm_starts "

@@ -20,6 +20,15 @@ numbers them. ``wrong`` names one deliberately wrong rule:
 ``"no_surface_ratio"``    surface moves accepted without their Hastings ratio;
 ``"outline_counts_dropped"``  outline moves accepted without their Hastings ratio;
 ``"outline_counts_swapped"``  with its inverse (the reverse move's choices over the forward's).
+``"no_isometry_factor"``  isometry moves accepted without ``(1 - link)**(b' - b)``;
+``"stale_rest"``          isometry moves count the bonds after the move (b') as if the set's old
+                          sites were still occupied, the slip an in-place move invites (a turned or
+                          mirrored set always overlaps its image at the seed).
+
+Isometry moves (``kernel/montecarlo/isometry_move.hpp``): a set grown as for the cluster move,
+seeded at a random particle, then shifted by one of the six neighbour vectors, turned by +-60
+degrees about the seed's site, or mirrored about one of the six axes through it; Hastings factor
+``(1 - link)**(b' - b)``. The maps are written here as integer matrices on lattice coordinates.
 
 A chain with the right rules must sample the exact Boltzmann weights; with a wrong one, it must
 not, by the same statistic and at the same sample size as the kernel's test.
@@ -33,7 +42,14 @@ import numpy as np
 from pyfrustrate import topology as T
 
 NEIGHBOURS = [tuple(int(x) for x in d) for d in T.NEIGHBOURS]
-WRONG_RULES = ("double_deformation", "link_p", "no_surface_ratio", "outline_counts_dropped", "outline_counts_swapped")
+WRONG_RULES = ("double_deformation", "link_p", "no_surface_ratio", "outline_counts_dropped", "outline_counts_swapped",
+               "no_isometry_factor", "stale_rest")
+TURN = np.array([[0, -1], [1, 1]])  # +60 degrees: (i, j) -> (-j, i + j)
+MIRROR = np.array([[-1, -1], [0, 1]])  # about the axis at 90 degrees: (i, j) -> (-i - j, j)
+#: The isometries' linear parts: the two turns, and the six mirrors (the mirror turned by k 60 degrees).
+TURNS = (TURN, np.linalg.matrix_power(TURN, 5))
+MIRRORS = tuple(np.linalg.matrix_power(TURN, k) @ MIRROR for k in range(6))
+ISOMETRY_KINDS = ("shift", "rotation", "reflection")
 
 
 def bonds_of(state, box):
@@ -48,7 +64,7 @@ class ReferenceChain:
     so that ``E + g bonds`` is the deformation part)."""
 
     def __init__(self, states, E, g, box, *, surface_moves=0.0, cluster_moves=0.0, link=1.0, outline_moves=0.0, mu=0.0,
-                 wrong=None, seed=0):
+                 isometry_moves=None, isometry_link=0.3, wrong=None, seed=0):
         if wrong not in (None,) + WRONG_RULES:
             raise ValueError(f"wrong must be one of {WRONG_RULES} or None, got {wrong!r}")
         self.index = {s: k for k, s in enumerate(states)}
@@ -58,6 +74,11 @@ class ReferenceChain:
         self.surface_moves, self.cluster_moves, self.link, self.wrong = surface_moves, cluster_moves, link, wrong
         self.outline_moves, self.mu = outline_moves, mu
         self.sizes = np.array([len(s) for s in states])
+        # {"shift": probability, ...}: tried in that order before the other moves, as the kernel does
+        self.isometry_moves = dict(isometry_moves or {})
+        if set(self.isometry_moves) - set(ISOMETRY_KINDS):
+            raise ValueError(f"isometry_moves: keys must be among {ISOMETRY_KINDS}, got {sorted(self.isometry_moves)}")
+        self.isometry_link = isometry_link
         self.rng = np.random.default_rng(seed)
         self.neighbours = [[((k % box + di) % box) + box * ((k // box + dj) % box) for di, dj in NEIGHBOURS]
                            for k in range(box * box)]
@@ -94,28 +115,62 @@ class ReferenceChain:
         log_ratio = math.log(len(surface) * len(perimeter) / (len(surface_after) * len(perimeter_after)))
         return a, b, 0.0 if self.wrong == "no_surface_ratio" else log_ratio
 
+    def _grow(self, a, occupied, link):
+        grown, queue = {a}, [a]
+        for s in queue:  # every bond from the set to the rest tested once
+            for u in self.neighbours[s]:
+                if u in occupied and u not in grown and self.rng.random() < link:
+                    grown.add(u)
+                    queue.append(u)
+        return grown
+
+    def _moved(self, grown, occupied, image, factor, stale=False):
+        """(occupancy after, log Hastings factor) of the set ``grown`` sent to ``image(site)``, or
+        None; ``stale``: b' counted against the rest and the set's old sites (wrong)."""
+        rest = occupied - grown
+        moved = {image(s) for s in grown}
+        if moved & rest:
+            return None
+        before = sum(u in rest for s in grown for u in self.neighbours[s])
+        after_rest = (occupied - moved) if stale else rest
+        after = sum(u in after_rest for s in moved for u in self.neighbours[s])
+        if after != before and factor == 0:
+            return None
+        return rest | moved, (after - before) * math.log(factor) if after != before else 0.0
+
+    def _site(self, i, j):
+        return int(i) % self.box + self.box * (int(j) % self.box)
+
     def _cluster_proposal(self, occupied):
         a = sorted(occupied)[self.rng.integers(len(occupied))]
         shift = (int(self.rng.integers(self.box)), int(self.rng.integers(self.box)))
         if shift == (0, 0):
             return None
-        grown, queue = {a}, [a]
-        for s in queue:  # every bond from the set to the rest tested once
-            for u in self.neighbours[s]:
-                if u in occupied and u not in grown and self.rng.random() < self.link:
-                    grown.add(u)
-                    queue.append(u)
-        rest = occupied - grown
-        moved = {((s % self.box + shift[0]) % self.box) + self.box * ((s // self.box + shift[1]) % self.box)
-                 for s in grown}
-        if moved & rest:
-            return None
-        before = sum(u in rest for s in grown for u in self.neighbours[s])
-        after = sum(u in rest for s in moved for u in self.neighbours[s])
+        grown = self._grow(a, occupied, self.link)
         factor = self.link if self.wrong == "link_p" else 1.0 - self.link
-        if after != before and factor == 0:
-            return None
-        return rest | moved, (after - before) * math.log(factor) if after != before else 0.0
+        return self._moved(grown, occupied, lambda s: self._site(s % self.box + shift[0], s // self.box + shift[1]),
+                           factor)
+
+    def _isometry_proposal(self, occupied, kind):
+        a = sorted(occupied)[self.rng.integers(len(occupied))]
+        seed = np.array([a % self.box, a // self.box])
+        if kind == "shift":
+            step = np.array(NEIGHBOURS[self.rng.integers(len(NEIGHBOURS))])
+            linear = np.eye(2, dtype=int)
+        elif kind == "rotation":
+            step = np.zeros(2, int)
+            linear = TURNS[self.rng.integers(len(TURNS))]
+        else:
+            step = np.zeros(2, int)
+            linear = MIRRORS[self.rng.integers(len(MIRRORS))]
+        grown = self._grow(a, occupied, self.isometry_link)
+        factor = 1.0 if self.wrong == "no_isometry_factor" else 1.0 - self.isometry_link
+
+        def image(s):  # seed + linear (x - seed) + step; the box's periods map to periods
+            i, j = seed + linear @ (np.array([s % self.box, s // self.box]) - seed) + step
+            return self._site(i, j)
+
+        return self._moved(grown, occupied, image, factor, stale=self.wrong == "stale_rest")
 
     def _connected(self, occupied):
         if not occupied:
@@ -151,8 +206,16 @@ class ReferenceChain:
         return after, math.log(ratio)
 
     def _fixed_size_proposal(self, occupied):
-        """(occupancy after, log Hastings ratio) of a cluster, surface or particle move, or (None, 0)."""
-        if self.rng.random() < self.cluster_moves:
+        """(occupancy after, log Hastings ratio) of an isometry, cluster, surface or particle move, or
+        (None, 0)."""
+        u = self.rng.random()
+        # As the kernel: a family that is off draws no deviate.
+        kind = next((k for k in ISOMETRY_KINDS
+                     if self.isometry_moves.get(k, 0.0) > 0 and self.rng.random() < self.isometry_moves[k]), None)
+        if kind is not None:
+            proposal = self._isometry_proposal(occupied, kind)
+            return proposal if proposal else (None, 0.0)
+        if u < self.cluster_moves:
             proposal = self._cluster_proposal(occupied)
             return proposal if proposal else (None, 0.0)
         proposal = (self._surface_proposal(occupied) if self.rng.random() < self.surface_moves

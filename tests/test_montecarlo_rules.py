@@ -5,14 +5,18 @@ For each factor a case (box, temperature, moves) is chosen where it weighs: the 
 energy (eps = 0.05, Gamma = 0.1 at T = 0.5 g, deformation energies up to ~0.4 T), the linked-move
 factor (1 - link)^(b' - b) at link = 0.8, where (1 - link) and link differ fourfold (at 0.5 they
 are equal and no statistic could tell them apart), and the surface-move Hastings ratio in a 5 x 5
-box, where the counts of surface particles and perimeter sites change from move to move. Then:
+box, where the counts of surface particles and perimeter sites change from move to move, and the
+isometry moves' factor (1 - link)^(b' - b) at link 0.8 (dropped: "no_isometry_factor") and their
+count of b' against the rest alone, the set's old sites being left (counted as still occupied:
+"stale_rest"; a turned or mirrored set always overlaps its image at the seed). Then:
 
 * the kernel's chain samples the exact Boltzmann weights there (with and without delayed
   acceptance), by the statistic of ``test_montecarlo.compare_with_boltzmann``;
 * an independent chain in Python on the kernel's exact energies (``montecarlo_reference``) with
   the right rules passes the same statistic at the same sample size;
 * the same chain with one deliberately wrong rule (the deformation term doubled, ``link`` in
-  place of ``1 - link``, the surface ratio dropped) fails it.
+  place of ``1 - link``, the surface ratio dropped, the isometry factor dropped, b' counted against
+  the set's old sites) fails it.
 """
 import numpy as np
 import pytest
@@ -28,7 +32,12 @@ CASES = {
     "double_deformation": dict(Gamma=0.1, box=4, n=3, moves={}),
     "link_p": dict(Gamma=0.1, box=4, n=3, moves=dict(cluster_moves=0.5, cluster_link=0.8)),
     "no_surface_ratio": dict(Gamma=0.5, box=5, n=3, moves=dict(surface_moves=0.9)),
+    "no_isometry_factor": dict(Gamma=0.1, box=4, n=3, moves=dict(shift_moves=0.3, rotation_moves=0.3,
+                                                                 reflection_moves=0.3, isometry_link=0.8)),
+    "stale_rest": dict(Gamma=0.1, box=4, n=3, moves=dict(rotation_moves=0.5, reflection_moves=0.5, isometry_link=0.5)),
 }
+#: The kernel's option of each isometry family, as the reference chain names the family.
+ISOMETRY_OPTIONS = {"shift": "shift_moves", "rotation": "rotation_moves", "reflection": "reflection_moves"}
 T_OVER_G = 0.5
 
 
@@ -82,9 +91,10 @@ def reference_statistics(name, wrong):
     particle, g, states, E = case(name)
     c = CASES[name]
     moves = c["moves"]
+    isometry = {kind: moves[option] for kind, option in ISOMETRY_OPTIONS.items() if option in moves}
     chain = ReferenceChain(states, E, g, c["box"], surface_moves=moves.get("surface_moves", 0.0),
                            cluster_moves=moves.get("cluster_moves", 0.0), link=moves.get("cluster_link", 1.0),
-                           wrong=wrong, seed=5)
+                           isometry_moves=isometry, isometry_link=moves.get("isometry_link", 0.3), wrong=wrong, seed=5)
     ids = chain.run(states[0], T_OVER_G * g, SAMPLES)
     return boltzmann_statistics(ids, states, E, T_OVER_G * g, g)
 

@@ -14,12 +14,11 @@
 #pragma once
 
 #include "box.hpp"
+#include "montecarlo/linked_set.hpp"
 #include "montecarlo/options.hpp"
 #include "montecarlo/proposal.hpp"
 
-#include <cmath>
 #include <cstdint>
-#include <vector>
 
 namespace pyfrustrate {
 
@@ -46,41 +45,15 @@ struct ClusterMove {
         const int L = box.L;
         const int di = static_cast<int>(c.uniform_index(L)), dj = static_cast<int>(c.uniform_index(L));  // a cell shift
         if (di == 0 && dj == 0) return false;
-        // The set S, by bond percolation from a: every bond from S to an occupied site outside it
-        // is tested once (p = 1 draws no deviate: S is a's whole cluster).
+        // The set S (linked_set.hpp), shifted; targets must be empty or in S.
         const double link = c.options().cluster_link;
-        grown.new_round();
-        std::vector<int>& set = p.from;
-        set.push_back(a);
-        grown.mark[a] = grown.stamp;
-        for (std::size_t k = 0; k < set.size(); ++k)
-            for (int d = 0; d < box.neighbours(); ++d) {
-                const int u = box.next(set[k], d);
-                if (!c.occupied(u) || grown.seen(u)) continue;
-                if (link >= 1 || c.uniform01() < link) {
-                    grown.mark[u] = grown.stamp;
-                    set.push_back(u);
-                }
-            }
-        // Bonds from S to the rest before (b) and after (b') the shift; targets must be empty or in S.
-        int outer_before = 0, outer_after = 0;
-        for (const int s : set) {
+        grow_linked_set(c, grown, a, link, p.from);
+        const auto shifted = [&](int s) {
             const Site x = box.coords(s);
-            const int t = box.index({x[0] + di, x[1] + dj, x[2]});
-            if (c.occupied(t) && !grown.seen(t)) return false;
-            p.to.push_back(t);
-            for (int d = 0; d < box.neighbours(); ++d) {
-                const int u = box.next(s, d), v = box.next(t, d);
-                outer_before += c.occupied(u) && !grown.seen(u);
-                outer_after += c.occupied(v) && !grown.seen(v);  // the rest does not move
-            }
-        }
-        p.bond_change = outer_after - outer_before;
-        if (link >= 1 && p.bond_change > 0) return false;  // (1 - p)^(b' - b) = 0
-        p.log_hastings = p.bond_change == 0 ? 0.0 : p.bond_change * std::log1p(-link);
+            return box.index({x[0] + di, x[1] + dj, x[2]});
+        };
+        if (!place_linked_set(c, grown, link, true, p, shifted)) return false;
         p.carries_displacements = true;
-        // S is a whole cluster and touches nothing where it lands: same shape, bonds and energy.
-        p.rigid = outer_before == 0 && outer_after == 0;
         return true;
     }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "montecarlo/cluster_move.hpp"
+#include "montecarlo/isometry_move.hpp"
 #include "montecarlo/outline_move.hpp"
 #include "montecarlo/particle_move.hpp"
 #include "montecarlo/surface_move.hpp"
@@ -12,7 +13,7 @@
 
 namespace pyfrustrate {
 
-using MoveFamilies = std::tuple<OutlineMove, ClusterMove, SurfaceMove, ParticleMove>;
+using MoveFamilies = std::tuple<OutlineMove, ClusterMove, ShiftMove, RotationMove, ReflectionMove, SurfaceMove, ParticleMove>;
 
 template <class Tuple>
 struct CountersOf;

@@ -42,6 +42,13 @@ struct MonteCarloOptions {
     double cluster_link = 0.9;
     double bonded_moves = 0.5;
     double surface_moves = 0.2;
+    // Collective isometry moves (montecarlo/isometry_move.hpp), off by default. The link 0.3 lies
+    // below the triangular lattice's bond-percolation threshold 2 sin(pi/18) = 0.347, so that a
+    // set grown inside an aggregate stays a local piece of it rather than the whole.
+    double shift_moves = 0.0;
+    double rotation_moves = 0.0;
+    double reflection_moves = 0.0;
+    double isometry_link = 0.3;
     bool cache = true;        // cache relaxed energies by canonical shape
     bool incremental = true;  // false: re-minimise every cluster of the box on every move
                               // (the naive baseline of the benchmark; no cache either)
@@ -154,6 +161,18 @@ void for_each_option(Options& o, F&& f) {
            "the reservoir's chemical potential mu of outline moves, in the units of g (the chain samples "
            "exp(-(E - mu n) / T))"),
       o.chemical_potential);
+    f(real("shift_moves", S::Run, 0, false, 1, false,
+           "probability of a shift move: a linked set (grown with isometry_link) moved to a neighbouring site"),
+      o.shift_moves);
+    f(real("rotation_moves", S::Run, 0, false, 1, false,
+           "probability of a rotation move: a linked set turned by +-60 degrees about its seed particle's site"),
+      o.rotation_moves);
+    f(real("reflection_moves", S::Run, 0, false, 1, false,
+           "probability of a reflection move: a linked set mirrored about an axis through its seed particle's site"),
+      o.reflection_moves);
+    f(real("isometry_link", S::Run, 0, false, 1, false,
+           "probability of following each bond when growing the set of a shift, rotation or reflection move"),
+      o.isometry_link);
     f(real("force_scale", S::Particle, 0, true, kUnbounded, true, "the particle's force unit (particle.force_scale)"),
       o.force_scale);
     f(real("bond_deformation", S::Particle, -kUnbounded, true, kUnbounded, true,

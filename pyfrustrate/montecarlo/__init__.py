@@ -3,7 +3,7 @@ the snapshots of Fig. 3b): simulated annealing and replica exchange over the ker
 (``kernel/montecarlo/``).
 
 Modules: ``options`` (``MonteCarloOptions``, the one options type, checked once; ``binding``,
-``Gamma=`` or ``g=``), ``annealing`` (schedules, ``anneal``), ``exchange`` (``replica_exchange``),
+``Gamma=`` or ``g=``), ``annealing`` (schedules, ``window_schedule``, ``anneal``), ``exchange`` (``replica_exchange``),
 ``driver`` (the run loop both share, a chain's state as a value), ``checkpoints`` (data-only
 checkpoint files), ``trajectory`` (GSD snapshots), ``analysis`` (clusters through the kernel,
 classification of aggregates, ``BoxState``), ``drawing`` (``draw_snapshot``), ``fixed_size``
@@ -20,14 +20,14 @@ module docstring lists every route between the two).
 """
 from .analysis import (ELONGATION_THRESHOLD, OPEN_NETWORK_BONDS, BoxState, classify_aggregate, clusters,
                        largest_cluster_extent)
-from .annealing import DEFAULT_SWEEPS, SCHEDULES, AnnealResult, AnnealState, anneal, read_checkpoint
+from .annealing import DEFAULT_SWEEPS, SCHEDULES, AnnealResult, AnnealState, anneal, read_checkpoint, window_schedule
 from .drawing import draw_snapshot
 from .driver import ChainState
 from .exchange import ReplicaExchangeResult, ReplicaState, geometric_temperatures, replica_exchange
 from .options import DEFAULTS_MEASURED, MonteCarloOptions, binding
 from . import fixed_size, grand_canonical
 
-__all__ = ["anneal", "AnnealResult", "AnnealState", "read_checkpoint", "SCHEDULES", "DEFAULT_SWEEPS",
+__all__ = ["anneal", "AnnealResult", "AnnealState", "read_checkpoint", "SCHEDULES", "DEFAULT_SWEEPS", "window_schedule",
            "replica_exchange", "ReplicaExchangeResult", "ReplicaState", "geometric_temperatures",
            "MonteCarloOptions", "DEFAULTS_MEASURED", "binding", "ChainState", "BoxState",
            "clusters", "classify_aggregate", "largest_cluster_extent", "draw_snapshot",

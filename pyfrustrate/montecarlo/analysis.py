@@ -159,9 +159,27 @@ def classify_aggregate(sites, box, tiling="hexagon") -> tuple[str, int]:
     bonds = sum(v in members for c in coords.tolist() for v in neighbour_sites(c, tiling)) / 2
     if bonds / size < OPEN_NETWORK_BONDS * tiling_facts(tiling)["bulk_bonds_per_particle"]:
         return "bulk_with_holes", size
+    return ("fiber" if elongated(coords, tiling) else "disk"), size
+
+
+def elongated(coords, tiling="hexagon") -> bool:
+    """Whether a finite cluster reads as a fibre: gyration anisotropy (the square root of the
+    ratio of the principal variances of its site centres) above ``ELONGATION_THRESHOLD``.
+
+    Parameters
+    ----------
+    coords : array_like, shape (k, 2) or (k, 3), int
+        The cluster's unwrapped sites (``clusters``).
+    tiling : {"hexagon", "triangle"}, optional
+        The tiling.
+
+    Returns
+    -------
+    bool
+    """
     xy = site_positions(coords, tiling)
     eigen = np.linalg.eigvalsh(np.cov(xy.T))
-    return ("fiber" if np.sqrt(eigen[1] / max(eigen[0], 1e-12)) > ELONGATION_THRESHOLD else "disk"), size
+    return bool(np.sqrt(eigen[1] / max(eigen[0], 1e-12)) > ELONGATION_THRESHOLD)
 
 
 def placed(coords, box):

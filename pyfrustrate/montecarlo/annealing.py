@@ -45,7 +45,8 @@ Schedules (``schedule=``), temperatures in energy units:
 a callable
     ``T = schedule(x)``, evaluated once per record block.
 a sequence of stages
-    ``(T, n_steps)`` pairs, run in order (``steps`` is then their sum).
+    ``(T, n_steps)`` pairs, run in order (``steps`` is then their sum). ``window_schedule``
+    builds stages that dwell in an aggregate's reshaping window.
 
 ``T0`` defaults to ``g`` (the energy of one bond), or to the particle's bulk deformation energy per
 particle when ``g = 0``. A record block is ``record_every`` attempted moves (default one sweep,
@@ -68,7 +69,8 @@ from .driver import ChainState, box_run, chain_states_from_disk, drive, new_chai
 from .options import chain_options
 from .trajectory import Trajectory
 
-__all__ = ["anneal", "AnnealResult", "AnnealState", "read_checkpoint", "SCHEDULES", "DEFAULT_SWEEPS"]
+__all__ = ["anneal", "AnnealResult", "AnnealState", "read_checkpoint", "SCHEDULES", "DEFAULT_SWEEPS",
+           "window_schedule"]
 
 SCHEDULES = ("linear", "geometric")
 _CONTINUOUS_STAGES = 10  # acceptance is reported over tenths of a run without explicit stages
@@ -250,6 +252,101 @@ def _plan(steps, schedule, T0, T_end, record_every):
     return np.array(temps, float), np.array(block_steps, np.int64), np.array(stage_index), len(stages)
 
 
+def window_schedule(window, n: int, *, sweeps: int, T0: float, dwell: float = 0.8, quench: float = 0.05,
+                    dwell_stages: int = 6, entry_stages: int = 4) -> list[tuple[float, int]]:
+    """Stages for ``anneal(schedule=)`` that spend most of a run in the reshaping window.
+
+    A linear schedule from ``g`` spends most of its sweeps above ~0.2 g, where aggregates melt,
+    and a tenth in the window below it where they still reshape (their outline moves while they
+    hold together; ``fixed_size.reshaping_temperature`` measures it from a heating ladder, and
+    ``fixed_size.reshaping_window`` gives its ends). These stages instead:
+
+    1. **enter**: ``entry_stages`` equal steps from ``T0`` down to the window's top (the gas
+       condenses), with the fraction ``1 - dwell - quench`` of the sweeps;
+    2. **dwell**: ``dwell_stages`` temperatures from the window's top to its bottom, geometric,
+       with the fraction ``dwell``;
+    3. **quench**: ``T = 0`` (a descent) with the fraction ``quench``.
+
+    Each stage of a part gets an equal share of its sweeps (whole moves; the remainder goes to
+    the part's last stage).
+
+    Parameters
+    ----------
+    window : (float, float)
+        The reshaping window's lowest and highest temperature, ``0 < low <= high``, in the
+        particle's spring units (``fixed_size.reshaping_window``).
+    n : int
+        Particles: a sweep is ``n`` attempted moves.
+    sweeps : int, keyword only
+        Sweeps of the whole schedule.
+    T0 : float, keyword only
+        The first temperature, at least the window's top (``anneal``'s default is ``g``).
+    dwell, quench : float, keyword only
+        Fractions of the sweeps in the window and at ``T = 0``, positive, with ``dwell + quench
+        <= 1`` (at 1 the entry is skipped: the run starts in the window).
+    dwell_stages, entry_stages : int, keyword only
+        Temperatures in the window (>= 1) and on the way down to it (>= 1).
+
+    Returns
+    -------
+    list of (float, int)
+        ``(T, attempted moves)`` stages, temperatures not increasing, ending with ``T = 0``.
+
+    Raises
+    ------
+    ValueError
+        A bad value, named; or a part too short to give each of its stages one move.
+
+    Examples
+    --------
+    >>> from pyfrustrate.montecarlo.annealing import window_schedule
+    >>> window_schedule((0.1, 0.2), 10, sweeps=100, T0=1.0, dwell=0.8, quench=0.1, dwell_stages=2,
+    ...                 entry_stages=2)
+    [(1.0, 50), (0.6, 50), (0.2, 400), (0.1, 400), (0.0, 100)]
+    """
+    try:
+        low, high = (float(t) for t in window)
+    except (TypeError, ValueError):
+        raise ValueError(f"window must be a (lowest, highest) pair of temperatures, got {window!r}") from None
+    if not (np.isfinite(low) and np.isfinite(high) and 0 < low <= high):
+        raise ValueError(f"window must satisfy 0 < lowest <= highest (finite), got {window!r}")
+    n = integer("n", n, 1)
+    sweeps = integer("sweeps", sweeps, 1)
+    T0 = non_negative("T0", T0)
+    if T0 < high:
+        raise ValueError(f"T0 ({T0!r}) must be at least the window's top ({high!r})")
+    dwell_stages = integer("dwell_stages", dwell_stages, 1)
+    entry_stages = integer("entry_stages", entry_stages, 1)
+    fractions = {}
+    for name, value in (("dwell", dwell), ("quench", quench)):
+        value = non_negative(name, value)
+        if not 0 < value <= 1:
+            raise ValueError(f"{name} must lie in (0, 1], got {value!r}")
+        fractions[name] = value
+    if fractions["dwell"] + fractions["quench"] > 1 + 1e-12:
+        raise ValueError(f"dwell + quench must be at most 1, got {dwell!r} + {quench!r}")
+    total = sweeps * n
+    moves = {part: int(round(fractions[part] * total)) for part in ("dwell", "quench")}
+    moves["entry"] = total - moves["dwell"] - moves["quench"]
+    temperatures = {
+        # From T0 towards the window's top, which the dwell starts at.
+        "entry": [T0 + (high - T0) * k / entry_stages for k in range(entry_stages)] if moves["entry"] > 0 else [],
+        "dwell": list(np.geomspace(high, low, dwell_stages)) if dwell_stages > 1 else [high],
+        "quench": [0.0],
+    }
+    stages = []
+    for part in ("entry", "dwell", "quench"):
+        temps = temperatures[part]
+        if not temps:
+            continue
+        share, rest = divmod(moves[part], len(temps))
+        if share < 1:
+            raise ValueError(f"sweeps ({sweeps}) too few: the {part} part's {moves[part]} moves do not give each of "
+                             f"its {len(temps)} stages one")
+        stages += [(round(float(t), 12), share + (rest if k == len(temps) - 1 else 0)) for k, t in enumerate(temps)]
+    return stages
+
+
 def _schedule_description(schedule):
     if isinstance(schedule, str):
         return schedule
@@ -411,6 +508,14 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
         neighbour, with the ratio ``n_s n_p / (n_s' n_p')`` of those counts before and after
         (refused when the reverse move could not be proposed): the bond-neutral jumps between the
         kinks of an aggregate's outline, proposed far more often than by the other moves.
+
+        ``shift_moves``, ``rotation_moves``, ``reflection_moves`` in [0, 1] (0 by default): the
+        probabilities of the collective isometry moves, a set grown from a random seed particle
+        (each bond followed with probability ``isometry_link``) shifted to a neighbouring site,
+        turned by +-60 degrees about the seed's site or mirrored about an axis through it,
+        accepted with ``min(1, exp(-dE/T) (1 - isometry_link)**(b' - b))``: they straighten and
+        compact aggregates in place. Hexagon tiling only for turns and mirrors (a ``ValueError``
+        from the run otherwise).
 
         ``max_iter``: cap on energy evaluations per L-BFGS relaxation; ``cache``: the cache of
         relaxed energies by shape (speed only).

@@ -50,7 +50,7 @@ from .options import MonteCarloOptions, check_particle
 
 __all__ = ["SCANS", "COMPETITORS", "fibre_seed", "disk_seed", "two_disks_seed", "fibre_and_disk_seeds",
            "disk_and_fibre_seeds", "ansatz_margin", "predicted_kind", "two_sided_seeds", "persists", "disk_box", "fixed_size_options", "seeded_state",
-           "heating_ladder", "reshaping_temperature", "sample_schedule", "sample", "FixedSizeSample",
+           "heating_ladder", "reshaping_temperature", "reshaping_window", "sample_schedule", "sample", "FixedSizeSample",
            "size_of_lowest_energy", "fitted_optimum", "best_straight_fibre", "best_disk", "continuum_optima"]
 
 #: The two kinds of fixed-size samples.
@@ -602,17 +602,61 @@ def reshaping_temperature(temperature, energy, accepted, *, n: int, g: float, re
         acceptance = float(A[late].mean() / n)
         stages.append(dict(T=float(T[lo]), excess=excess, acceptance=acceptance, holds=excess <= max_excess,
                            reshapes=acceptance >= min_acceptance))
+    window = _window_temperatures(stages)
+    if not window:
+        table = ", ".join(f"T={s['T']:.3g}: excess {s['excess']:.3g}, acceptance {s['acceptance']:.3g}" for s in stages)
+        raise ValueError(f"no stage of the ladder both holds (excess <= {max_excess:g} bonds per particle) and "
+                         f"reshapes (acceptance >= {min_acceptance:g}): {table}")
+    return window[-1], stages
+
+
+def _window_temperatures(stages) -> list[float]:
+    """The temperatures of the stages that reshape, below the first that does not hold."""
     window = []
     for stage in stages:
         if not stage["holds"]:
             break
         if stage["reshapes"]:
             window.append(stage["T"])
+    return window
+
+
+def reshaping_window(stages) -> tuple[float, float]:
+    """The reshaping window's lowest and highest temperatures, from ``reshaping_temperature``'s
+    stages (the input of ``annealing.window_schedule``).
+
+    Parameters
+    ----------
+    stages : list of dict
+        ``reshaping_temperature(...)[1]``: per stage ``T``, ``holds``, ``reshapes``, by rising
+        ``T``.
+
+    Returns
+    -------
+    (float, float)
+        The lowest and the highest temperature that reshape below the first stage that does not
+        hold (equal if one stage does).
+
+    Raises
+    ------
+    ValueError
+        ``stages`` is not such a list, or no stage both holds and reshapes.
+
+    Examples
+    --------
+    >>> from pyfrustrate.montecarlo.fixed_size import reshaping_window
+    >>> reshaping_window([dict(T=0.05, holds=True, reshapes=False), dict(T=0.1, holds=True, reshapes=True),
+    ...                   dict(T=0.2, holds=True, reshapes=True), dict(T=0.3, holds=False, reshapes=True)])
+    (0.1, 0.2)
+    """
+    try:
+        window = _window_temperatures(stages)
+    except (TypeError, KeyError) as error:
+        raise ValueError(f"stages must be reshaping_temperature's list of dicts with T, holds and reshapes, "
+                         f"got {stages!r}") from error
     if not window:
-        table = ", ".join(f"T={s['T']:.3g}: excess {s['excess']:.3g}, acceptance {s['acceptance']:.3g}" for s in stages)
-        raise ValueError(f"no stage of the ladder both holds (excess <= {max_excess:g} bonds per particle) and "
-                         f"reshapes (acceptance >= {min_acceptance:g}): {table}")
-    return window[-1], stages
+        raise ValueError("stages: no stage both holds and reshapes")
+    return float(min(window)), float(max(window))
 
 
 def sample_schedule(hold_temperature: float, n: int, *, hold_sweeps: int, cool_sweeps: int, quench_sweeps: int,

@@ -55,6 +55,27 @@ def catalogue_file(ell, nu):
 MC = config["montecarlo"]
 
 
+def mc_run_params():
+    """The params of a Monte Carlo run, every kind (montecarlo_run.py)."""
+    return dict(
+        nu=lambda w: float(w.nu),
+        Gamma=lambda w: float(w.Gamma),
+        seed=lambda w: int(w.seed),
+        kind=lambda w: w.kind.split("_")[0],
+        convention=lambda w: w.kind.split("_")[1] if "_" in w.kind else "measured",
+        tiling="hexagon",
+        checkpoint_stem=lambda w: f"results/montecarlo/checkpoints/{w.kind}_nu{w.nu}_G{w.Gamma}_seed{w.seed}",
+        n=per_box(MC, "n"),
+        box=per_box(MC, "box"),
+        method=per_box(MC, "method"),
+        sweeps=per_box(MC, "sweeps"),
+        bonded_moves=per_box(MC, "bonded_moves"),
+        surface_moves=per_box(MC, "surface_moves"),
+        exchange=exchange_after_anneal(MC),
+        **pick(MC, "ell", "eps", "tol", "cluster_moves", "cluster_link"),
+    )
+
+
 def mc_run_file(nu, Gamma, seed, kind="sparse", convention="measured"):
     """One annealing run; ``kind`` picks the box: 'sparse' (n, box), 'dense' (dense_n, dense_box:
     the bottom row of Fig. 3b) or 'large' (large_n, large_box: figX_mc_finite_size);

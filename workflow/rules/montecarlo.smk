@@ -4,26 +4,12 @@ rule montecarlo_run:
     output:
         "results/montecarlo/runs/{kind}_nu{nu}_G{Gamma}_seed{seed}.npz",
     params:
-        nu=lambda w: float(w.nu),
-        Gamma=lambda w: float(w.Gamma),
-        seed=lambda w: int(w.seed),
-        kind=lambda w: w.kind.split("_")[0],
-        convention=lambda w: w.kind.split("_")[1] if "_" in w.kind else "measured",
-        tiling="hexagon",
-        checkpoint_stem=lambda w: f"results/montecarlo/checkpoints/{w.kind}_nu{w.nu}_G{w.Gamma}_seed{w.seed}",
-        n=per_box(MC, "n"),
-        box=per_box(MC, "box"),
-        method=per_box(MC, "method"),
-        sweeps=per_box(MC, "sweeps"),
-        bonded_moves=per_box(MC, "bonded_moves"),
-        surface_moves=per_box(MC, "surface_moves"),
-        exchange=exchange_after_anneal(MC),
-        **pick(MC, "ell", "eps", "tol", "cluster_moves", "cluster_link"),
+        **mc_run_params(),
     # The anneal is serial; the replica exchange after it runs its replicas on this many threads
     # (raise it with --set-threads montecarlo_run=N where a job may have N cores).
     threads: 1
     wildcard_constraints:
-        kind="sparse|dense|large|sparse_supplement|dense_supplement",
+        kind="sparse|dense|sparse_supplement|dense_supplement",
         seed=r"\d+",
     conda:
         "../envs/pyfrustrate.yaml"
@@ -34,6 +20,19 @@ rule montecarlo_run:
         "results/benchmarks/montecarlo_run/{kind}_nu{nu}_G{Gamma}_seed{seed}.tsv"
     script:
         "../scripts/montecarlo_run.py"
+
+
+# The large box's runs (figX_mc_scale, figX_mc_finite_size; issue 33, item 3): the same script
+# with collective isometry moves and a schedule that dwells in the reshaping window
+# (MC["large_collective"]), in a rule of their own so that the other kinds' params stay as they were.
+use rule montecarlo_run as montecarlo_large_run with:
+    params:
+        **mc_run_params(),
+        # Keys sorted: the same params whatever the order of the configuration file.
+        collective=dict(sorted(MC["large_collective"].items())),
+    wildcard_constraints:
+        kind="large",
+        seed=r"\d+",
 
 
 rule montecarlo_diagram:
@@ -261,9 +260,11 @@ rule montecarlo_validation:
         samples=validation_sample_files(),
         two_sided=validation_two_sided_files(),
         grand=grand_sample_files(),
+        scale=rules.montecarlo_scale.output,  # large_runs: the scale scans judged by structure
     output:
         "results/montecarlo/validation.json",
     params:
+        large_points=mc_scale_points(),
         seeds=VALIDATION["seeds"],
         fibre_length=VALIDATION["fibre_length"],
         estimate_particles=VALIDATION["estimate_particles"],

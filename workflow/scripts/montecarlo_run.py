@@ -14,13 +14,20 @@ configuration then seeds every replica of a low-temperature replica exchange
 to [1] g, geometric, the same moves): the hot replicas find the outline with the most bonds, which
 the linear schedule leaves one bond short where it is favoured only below ~0.09 g (README), and
 the swaps carry it down. The run's result is then the coldest replica after its T = 0 descent;
-the anneal's own energy and bonds are kept as anneal_energy and anneal_bonds."""
+the anneal's own energy and bonds are kept as anneal_energy and anneal_bonds.
+
+The large box's runs (rule montecarlo_large_run) get a `collective` param: collective isometry
+moves (shift_moves, rotation_moves, reflection_moves, isometry_link) and, in place of the linear
+schedule, pyfrustrate.montecarlo.window_schedule from g through the reshaping window (`window`, in
+units of g; `dwell` and `quench` the fractions of the sweeps there and at T = 0). The other kinds'
+rule has no such param."""
 import os
+import time
 
 import numpy as np
 
 from pyfrustrate import anneal, continuum
-from pyfrustrate.montecarlo import MonteCarloOptions, geometric_temperatures, replica_exchange
+from pyfrustrate.montecarlo import MonteCarloOptions, geometric_temperatures, replica_exchange, window_schedule
 from pyfrustrate.io import logging_to, save_npz, sigterm_raises
 from pyfrustrate.provenance import for_job
 from pyfrustrate.particles import particle_class
@@ -37,13 +44,25 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
     cluster_moves, cluster_link, bonded_moves, surface_moves = p.cluster_moves, p.cluster_link, p.bonded_moves, p.surface_moves
     # Named by everything that defines the run, so a changed configuration starts afresh while an
     # interrupted run of the same configuration resumes.
+    collective = getattr(p, "collective", None)  # only the large box's rule passes it
+    isometry = {key: collective[key] for key in ("shift_moves", "rotation_moves", "reflection_moves", "isometry_link")
+                } if collective else {}
     checkpoint = (f"{p.checkpoint_stem}_{n}in{box}_{sweeps}sweeps_{method}_tol{p.tol:g}_eps{p.eps:g}"
-                  f"_cm{cluster_moves:g}_link{cluster_link:g}_bonded{bonded_moves:g}_surface{surface_moves:g}.npz")
+                  f"_cm{cluster_moves:g}_link{cluster_link:g}_bonded{bonded_moves:g}_surface{surface_moves:g}"
+                  + "".join(f"_{key}{value:g}" for key, value in isometry.items())
+                  + (f"_window{collective['window'][0]:g}-{collective['window'][1]:g}_dwell{collective['dwell']:g}"
+                     f"_quench{collective['quench']:g}" if collective else "") + ".npz")
     # One chain for both stages: the anneal and the exchange after it make the same moves.
     options = MonteCarloOptions(method=method, tol=p.tol, cluster_moves=cluster_moves, cluster_link=cluster_link,
-                                bonded_moves=bonded_moves, surface_moves=surface_moves)
+                                bonded_moves=bonded_moves, surface_moves=surface_moves, **isometry)
     chain = dict(g=g, box=box, n=n, seed=p.seed, options=options, progress=True)
-    r = anneal(particle, steps=n * sweeps, checkpoint=checkpoint, **chain)
+    schedule = dict(steps=n * sweeps)
+    if collective:
+        low, high = collective["window"]
+        schedule = dict(schedule=window_schedule((low * g, high * g), n, sweeps=sweeps, T0=g, dwell=collective["dwell"],
+                                                 quench=collective["quench"]))
+    cpu_start = time.process_time()
+    r = anneal(particle, checkpoint=checkpoint, **schedule, **chain)
     if r.resumed:
         print(f"resumed from checkpoint {checkpoint}")
     final, exchange, exchange_checkpoint = r, {}, None
@@ -69,15 +88,18 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
                         exchange_swap_acceptance=x.swap_acceptance, exchange_round_trips=x.round_trips,
                         exchange_elapsed=x.elapsed, anneal_energy=r.energy, anneal_bonds=r.bonds)
         final = x
+    cpu_seconds = time.process_time() - cpu_start  # this job's own (a resumed run: since it resumed)
     sizes = sorted((len(c) for c in final.clusters()), reverse=True)
-    print(f"nu={p.nu} Gamma={p.Gamma} n={n} box={box} seed={p.seed} method={method} cluster_moves={cluster_moves:g} cluster_link={cluster_link:g} bonded_moves={bonded_moves:g} surface_moves={surface_moves:g}: energy {final.energy:.6g}, "
-          f"acceptance {r.acceptance:.3g}, cache hit rate {r.cache_hit_rate:.3f}, {r.elapsed:.1f} s; clusters {sizes[:8]}")
+    print(f"nu={p.nu} Gamma={p.Gamma} n={n} box={box} seed={p.seed} method={method} cluster_moves={cluster_moves:g} cluster_link={cluster_link:g} bonded_moves={bonded_moves:g} surface_moves={surface_moves:g} {collective or ''}: energy {final.energy:.6g}, "
+          f"acceptance {r.acceptance:.3g}, cache hit rate {r.cache_hit_rate:.3f}, {r.elapsed:.1f} s "
+          f"({cpu_seconds:.1f} s of CPU); clusters {sizes[:8]}")
     save_npz(snakemake.output[0], provenance=for_job(snakemake), sites=final.sites, box=box, n=n, nu=p.nu, Gamma=p.Gamma, ell=p.ell,  # noqa: F821
              seed=p.seed, g=g, energy=final.energy, bonds=final.bonds, energy_trace=r.energy_trace, temperature=r.temperature,
              steps=r.steps, acceptance=r.acceptance, stage_acceptance=r.stage_acceptance, method=method,
              cluster_sizes=np.array(sizes), cluster_moves=cluster_moves,
              cluster_link=cluster_link, bonded_moves=bonded_moves, surface_moves=surface_moves, kind=p.kind, tiling=p.tiling,
-             convention=p.convention, Gamma_measured=Gamma_measured, **exchange)
+             convention=p.convention, Gamma_measured=Gamma_measured, cpu_seconds=cpu_seconds, elapsed=r.elapsed,
+             **{f"collective_{key}": value for key, value in (collective or {}).items()}, **exchange)
     for path in (checkpoint, exchange_checkpoint):  # the result is saved: nothing left to resume
         if path is not None:
             os.remove(path)

@@ -5,13 +5,14 @@ hexagonal disk and the continuum's optimum; the profile's scale; the wall time p
 power law of the time per attempted move against the particles, to estimate larger samples;
 the two-sided checks (item 4); the grand-canonical samples (item 2), one record
 per temperature, chemical potential and seed, and W* per temperature and seed where <E>/<n> crosses
-mu (montecarlo.grand_canonical.threshold_width) against the ansatz's. large_runs (item 3) is an
-empty list until that item is done."""
+mu (montecarlo.grand_canonical.threshold_width) against the ansatz's; large_runs (item 3), one
+record per run of the scale scans (results/montecarlo/scale.npz, ground_states.structure_verdict)
+with its structure_match."""
 import json
 
 import numpy as np
 
-from pyfrustrate.io import logging_to, save_json
+from pyfrustrate.io import load_npz, logging_to, save_json
 from pyfrustrate.montecarlo import fixed_size, grand_canonical
 from pyfrustrate.provenance import for_job
 
@@ -147,9 +148,27 @@ with logging_to(snakemake.log[0]):  # noqa: F821
                            W_ansatz=grand[0]["W_ansatz"], threshold_ansatz_over_g=grand[0]["threshold_over_g"],
                            ansatz_row_energy_over_g=row_energy.tolist()))
         print(f"grand-canonical T = {T:g} g: W* per seed {W_star[-1]['W_star']} (ansatz {grand[0]['W_ansatz']})")
+    # The scale scans' runs judged by structure (issue 33, item 3), one record per run.
+    scale = load_npz(snakemake.input.scale[0])  # noqa: F821
+    large_runs = []
+    for k in range(len(scale["seed"])):
+        at = (round(float(scale["nu"][k]), 9), round(float(scale["Gamma"][k]), 9))
+        fields = {key: scale[f"verdict_{key}"][k].item() for key in
+                  ("count", "count_predicted", "kind", "kind_predicted", "width", "width_predicted", "gap_gate",
+                   "count_ok", "kind_ok", "width_ok", "gap_ok", "structure_match")}
+        large_runs.append(dict(scans=[s for s, nu, G in p.large_points if (round(nu, 9), round(G, 9)) == at],
+                               nu=at[0], Gamma=at[1], seed=int(scale["seed"][k]), n=int(scale["n"][k]),
+                               gap=float(scale["gap_ground"][k]), cpu_seconds=float(scale["cpu_seconds"][k]),
+                               **{key: None if isinstance(v, float) and np.isnan(v) else v for key, v in fields.items()}))
+    cpu_seconds = [r["cpu_seconds"] for r in large_runs if np.isfinite(r["cpu_seconds"])]
+    large_summary = dict(runs=len(large_runs), structure_match=sum(r["structure_match"] for r in large_runs),
+                         gap_ok=sum(r["gap_ok"] for r in large_runs),
+                         structure_match_and_gap_ok=sum(r["structure_match"] and r["gap_ok"] for r in large_runs),
+                         cpu_seconds_max=max(cpu_seconds) if cpu_seconds else None,
+                         cpu_minutes_max=max(cpu_seconds) / 60 if cpu_seconds else None)
+    print(f"large runs: {large_summary}")
     save_json(snakemake.output[0], dict(  # noqa: F821
-        points=records, scale=dict(p.scale), timing=timing, large_runs=[], two_sided=two_sided,
-        grand_canonical=grand_canonical_records, grand_canonical_W_star=W_star,
-        pending="large_runs (issue 33 item 3) is not computed yet"),
+        points=records, scale=dict(p.scale), timing=timing, large_runs=large_runs, large_summary=large_summary,
+        two_sided=two_sided, grand_canonical=grand_canonical_records, grand_canonical_W_star=W_star),
         provenance=for_job(snakemake))  # noqa: F821
     print(f"{seconds.size} samples, {seconds.mean():.1f} s each on average (max {seconds.max():.1f} s)")

@@ -1,0 +1,87 @@
+"""A large run judged by structure (``ground_states.structure_verdict``): count, kind and width
+of the run against the box's predicted ground state, read by the same functions, and the energy
+gate max(5 bulk energies, 2 bonds).
+
+References: configurations built by hand (fibres of known rows, separate blobs, a compact disk),
+whose counts, kinds and widths are known by construction; the predicted ground state judged
+against itself.
+"""
+import numpy as np
+import pytest
+
+from pyfrustrate.ground_states import (EQUILIBRATED_GAP, GATE_BONDS, BoxCandidates, box_bonds, structure_verdict,
+                                       width_in_rows)
+
+BOX = 40
+
+
+def rows(length, width, i0=0, j0=0):
+    """``width`` rows of ``length`` particles along a1, stacked so that they form a straight strip
+    (each row shifted back by half a step: i0 - j // 2)."""
+    return np.array([(i0 + i - j // 2, j0 + j) for j in range(width) for i in range(length)])
+
+
+def disk(radius, i0=0, j0=0):
+    return np.array([(i0 + i, j0 + j) for i in range(-radius, radius + 1) for j in range(-radius, radius + 1)
+                     if abs(i + j) <= radius])
+
+
+def candidates_of(best_sites):
+    """Two candidates of len(best_sites) particles: ``best_sites`` (deformation 0) and the gas."""
+    n = len(best_sites)
+    gas = np.array([(3 * (k % 13), 3 * (k // 13)) for k in range(n)])
+    sites = (np.mod(best_sites, BOX), gas)
+    return BoxCandidates(n, BOX, np.array(["single", "gas"]), np.zeros(2),
+                         np.array([box_bonds(s, BOX) for s in sites]), sites, np.ones(2, bool))
+
+
+@pytest.mark.parametrize("width", [1, 2, 3, 5])
+def test_width_in_rows_counts_the_rows_of_a_strip_and_of_a_wrapping_fibre(width):
+    assert width_in_rows(rows(30, width), BOX) == pytest.approx(width, abs=0.05)
+    assert width_in_rows([(i, j) for j in range(width) for i in range(BOX)], BOX) == pytest.approx(width, abs=0.1)
+
+
+def test_the_prediction_judged_against_itself_matches_with_no_gap():
+    fibre = rows(20, 3)
+    c = candidates_of(fibre)
+    g, bulk = 0.1, 0.05
+    v = structure_verdict(fibre + (7, 5), BOX, c, g, -g * box_bonds(fibre, BOX), bulk)
+    assert v["structure_match"] and v["gap_ok"] and v["gap"] == pytest.approx(0)
+    assert (v["count"], v["kind"]) == (1, "fiber") == (v["count_predicted"], v["kind_predicted"])
+    assert v["width"] == pytest.approx(v["width_predicted"])
+    assert v["gap_gate"] == pytest.approx(max(EQUILIBRATED_GAP, GATE_BONDS * g / bulk))
+
+
+@pytest.mark.parametrize("run,field", [
+    (rows(30, 2), None),                       # one row narrower: within the tolerance
+    (rows(38, 1), "width_ok"),                 # two rows narrower
+    (disk(3), "kind_ok"),                      # compact
+    (np.vstack([rows(10, 3), rows(10, 3, 20, 20)]), "count_ok"),  # two fibres
+])
+def test_each_criterion_fails_alone(run, field):
+    c = candidates_of(rows(20, 3))
+    v = structure_verdict(run, BOX, c, 0.1, 0.0, 0.05)
+    failed = [k for k in ("count_ok", "kind_ok", "width_ok") if not v[k]]
+    assert failed == ([field] if field else [])
+    assert v["structure_match"] == (field is None)
+
+
+def test_the_energy_gate_takes_the_larger_of_five_bulk_energies_and_two_bonds():
+    fibre = rows(20, 3)
+    c = candidates_of(fibre)
+    ground = -1.0 * box_bonds(fibre, BOX)
+    # g = 1, bulk 0.1: two bonds are 20 bulk energies.
+    assert structure_verdict(fibre, BOX, c, 1.0, ground + 1.9, 0.1)["gap_ok"]
+    assert not structure_verdict(fibre, BOX, c, 1.0, ground + 2.1, 0.1)["gap_ok"]
+    # g = 0.1, bulk 0.1: two bonds are 2, the gate 5 bulk energies.
+    ground = -0.1 * box_bonds(fibre, BOX)
+    assert structure_verdict(fibre, BOX, c, 0.1, ground + 0.49, 0.1)["gap_ok"]
+    assert not structure_verdict(fibre, BOX, c, 0.1, ground + 0.51, 0.1)["gap_ok"]
+
+
+def test_bad_input_is_refused_by_name():
+    c = candidates_of(rows(20, 3))
+    with pytest.raises(ValueError, match="box"):
+        structure_verdict(rows(20, 3), BOX + 1, c, 0.1, 0.0, 0.05)
+    with pytest.raises(ValueError, match="bulk_energy"):
+        structure_verdict(rows(20, 3), BOX, c, 0.1, 0.0, 0.0)
