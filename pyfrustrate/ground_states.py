@@ -518,14 +518,17 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     count, count_predicted = aggregate_count(structure(sites, box)), aggregate_count(structure(predicted, box))
     kind, kind_predicted = aggregate_kind(sites, box), aggregate_kind(predicted, box)
     fibres = kind == kind_predicted == "fiber"
-    width = width_in_rows(sites, box) if fibres else None
-    width_predicted = width_in_rows(predicted, box) if fibres else None
+    width: float | None = None
+    width_predicted: float | None = None
+    width_ok = True  # only fibres are judged by their width
+    if fibres:
+        width, width_predicted = width_in_rows(sites, box), width_in_rows(predicted, box)
+        width_ok = abs(width - width_predicted) <= WIDTH_TOLERANCE_ROWS + 1e-9
     gap = (float(energy) - float(candidates.best_energy(g))) / bulk_energy
     gate = max(EQUILIBRATED_GAP, GATE_BONDS * float(g) / bulk_energy)
     verdict = dict(count=count, count_predicted=count_predicted, kind=str(kind), kind_predicted=str(kind_predicted),
                    width=width, width_predicted=width_predicted, gap=gap, gap_gate=gate,
-                   count_ok=count == count_predicted, kind_ok=kind == kind_predicted,
-                   width_ok=not fibres or abs(width - width_predicted) <= WIDTH_TOLERANCE_ROWS + 1e-9,
+                   count_ok=count == count_predicted, kind_ok=kind == kind_predicted, width_ok=width_ok,
                    gap_ok=gap <= gate)
     verdict["structure_match"] = verdict["count_ok"] and verdict["kind_ok"] and verdict["width_ok"]
     return verdict
