@@ -426,7 +426,6 @@ def width_in_rows(sites, box) -> float:
     3.0
     """
     from .montecarlo import clusters
-    from .montecarlo.fixed_size import ROW_SPACING
     coords = clusters(np.asarray(sites, int), int(box))[0][0]
     xy = topology.site_positions(coords[:, :2])
     if len(xy) < 2:
@@ -434,7 +433,7 @@ def width_in_rows(sites, box) -> float:
     centred = xy - xy.mean(axis=0)
     across = np.linalg.eigh(centred.T @ centred)[1][:, 0]  # the smaller principal axis
     spread = centred @ across
-    return float((spread.max() - spread.min()) / ROW_SPACING + 1.0)
+    return float((spread.max() - spread.min()) / topology.ROW_SPACING + 1.0)
 
 
 def aggregate_kind(sites, box) -> str:

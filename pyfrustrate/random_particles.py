@@ -25,7 +25,7 @@ import scipy.linalg
 
 from . import _checks, _kernel
 from .particles import _corners
-from .topology import SQRT3
+from .topology import ROW_SPACING, SQRT3
 
 DISTANCE_PAIRS = tuple(tuple(p) for p in _kernel.RandomHexagonModel.distance_pairs)
 HEXAGON_AREA = SQRT3 / 2  # A_0^hex of the supplement's pseudo-modulus (zeroth order in eps)
@@ -245,7 +245,6 @@ def _slot_lattice_offsets():
 
 
 _SUBLATTICE, _ROW = _slot_lattice_offsets()
-ROW_SPACING = SQRT3 / 2  # rows parallel to an edge along a1
 
 
 def rest_hessian(M) -> np.ndarray:

@@ -54,6 +54,7 @@ from . import _kernel
 from ._checks import affordable, integer, non_negative
 
 SQRT3 = np.sqrt(3.0)
+ROW_SPACING = SQRT3 / 2  # distance between the lattice's rows parallel to a1, lattice spacings
 
 # Memory estimates: upper bounds, with some headroom, on the peak memory per particle or grid
 # cell (tests/test_api.py checks each against what building a topology really takes). A size

@@ -58,7 +58,6 @@ SCANS = ("fibre", "disk")
 #: The competitors of a two-sided check: two disks of half the predicted disk's size, or the other
 #: kind (a fibre against a predicted disk, a disk against a predicted fibre) of as many particles.
 COMPETITORS = ("two_disks", "other_kind")
-ROW_SPACING = np.sqrt(3.0) / 2.0  # distance between the rows of the hexagon lattice, lattice spacings
 
 
 def fibre_seed(length: int, width: int) -> np.ndarray:
@@ -987,7 +986,7 @@ def continuum_optima(ell: float, nu: float, Gamma: float) -> dict:
     ell = non_negative("ell", ell)
     width = float(continuum.optimal_width(nu, Gamma)) * ell
     radius = float(continuum.optimal_radius(nu, Gamma)) * ell
-    return dict(W_rows=width / ROW_SPACING, n_disk=np.pi * radius**2 / topology.area_per_particle("hexagon"))
+    return dict(W_rows=width / topology.ROW_SPACING, n_disk=np.pi * radius**2 / topology.area_per_particle("hexagon"))
 
 
 
