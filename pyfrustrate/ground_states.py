@@ -439,8 +439,9 @@ def width_in_rows(sites, box) -> float:
 def aggregate_kind(sites, box) -> str:
     """Kind of the largest cluster of a box configuration: ``"gas"`` (fewer than 3 particles),
     ``"bulk"`` (wraps the box both ways), ``"fiber"`` (wraps one way, or finite and elongated:
-    ``montecarlo.analysis.elongated``) or ``"disk"``. Unlike ``montecarlo.classify_aggregate``,
-    a thin fibre (one or two rows, under two thirds of the bulk's bonds per particle) stays a fibre.
+    ``montecarlo.analysis.elongated``) or ``"disk"``: ``montecarlo.classify_aggregate`` without
+    its open-network reading, so that a thin fibre (one or two rows, under two thirds of the bulk's
+    bonds per particle) stays a fibre.
 
     Parameters
     ----------
@@ -459,13 +460,8 @@ def aggregate_kind(sites, box) -> str:
     >>> aggregate_kind([(i, 0) for i in range(8)], 20), aggregate_kind([(0, 0), (1, 0), (0, 1)], 20)
     ('fiber', 'disk')
     """
-    from .montecarlo.analysis import clusters, elongated
-    coords, rank = clusters(np.asarray(sites, int), int(box))[0]
-    if len(coords) < 3:
-        return "gas"
-    if rank:
-        return "bulk" if rank == 2 else "fiber"
-    return "fiber" if elongated(coords) else "disk"
+    from .montecarlo.analysis import classify_aggregate
+    return classify_aggregate(sites, box, open_networks=False)[0]
 
 
 def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: float, bulk_energy: float) -> dict:

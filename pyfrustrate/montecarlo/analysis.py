@@ -106,7 +106,7 @@ def clusters(sites, box, tiling="hexagon") -> list[tuple[np.ndarray, int]]:
             for coords, rank in _kernel.box_clusters(tiling, box, a.astype(np.int32))]
 
 
-def classify_aggregate(sites, box, tiling="hexagon") -> tuple[str, int]:
+def classify_aggregate(sites, box, tiling="hexagon", *, open_networks=True) -> tuple[str, int]:
     """Kind of the largest aggregate of a Monte Carlo state, for phase diagrams.
 
     A heuristic with the limits of a finite box: an aggregate narrower than the optimal fibre
@@ -120,14 +120,18 @@ def classify_aggregate(sites, box, tiling="hexagon") -> tuple[str, int]:
         Box side, in lattice cells.
     tiling : {"hexagon", "triangle"}, optional
         The tiling.
+    open_networks : bool, keyword only
+        Whether a finite cluster with few bonds per particle is ``'bulk_with_holes'`` (the
+        phase diagrams' reading); False judges it by its shape alone, so that a fibre of one or
+        two rows stays a fibre (``ground_states.structure_verdict``).
 
     Returns
     -------
     kind : str
         ``'bulk'`` (wraps the box both ways), ``'fiber'`` (wraps one way, or finite and
         elongated: gyration anisotropy above ``ELONGATION_THRESHOLD``), ``'bulk_with_holes'``
-        (fewer than ``OPEN_NETWORK_BONDS`` times the bulk's bonds per particle), ``'disk'``
-        (compact), or ``'gas'`` (largest cluster of fewer than 3 particles).
+        (with ``open_networks``: fewer than ``OPEN_NETWORK_BONDS`` times the bulk's bonds per
+        particle), ``'disk'`` (compact), or ``'gas'`` (largest cluster of fewer than 3 particles).
     size : int
         Particles in the largest cluster.
 
@@ -155,10 +159,11 @@ def classify_aggregate(sites, box, tiling="hexagon") -> tuple[str, int]:
         return "bulk", size
     if rank == 1:
         return "fiber", size
-    members = {tuple(c) for c in coords.tolist()}
-    bonds = sum(v in members for c in coords.tolist() for v in neighbour_sites(c, tiling)) / 2
-    if bonds / size < OPEN_NETWORK_BONDS * tiling_facts(tiling)["bulk_bonds_per_particle"]:
-        return "bulk_with_holes", size
+    if open_networks:
+        members = {tuple(c) for c in coords.tolist()}
+        bonds = sum(v in members for c in coords.tolist() for v in neighbour_sites(c, tiling)) / 2
+        if bonds / size < OPEN_NETWORK_BONDS * tiling_facts(tiling)["bulk_bonds_per_particle"]:
+            return "bulk_with_holes", size
     return ("fiber" if elongated(coords, tiling) else "disk"), size
 
 
