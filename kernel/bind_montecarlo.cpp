@@ -76,7 +76,7 @@ void export_montecarlo_common(py::module_& m) {
                  if (in.fail()) throw std::invalid_argument("rng_state: not a std::mt19937_64 state");
                  if (!std::isfinite(deformation)) throw std::invalid_argument("deformation must be finite");
                  b.state.deformation = deformation;
-                 for_each_counter(b.state, [&](const std::string& name, std::int64_t& v) {
+                 for_each_counter(b.state, [&](const std::string& name, std::int64_t& v, const char*) {
                      v = counters.contains(name.c_str()) ? counters[name.c_str()].cast<std::int64_t>() : 0;
                  });
                  if ((known.size() == 0) != (displacement.size() == 0) || (known.size() > 0 && displacement.size() % known.size() != 0))

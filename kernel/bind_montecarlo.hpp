@@ -29,24 +29,35 @@ struct BoundState {
 
 template <class F, std::size_t... I>
 void for_each_move_counter(MoveCounters& counters, F& f, std::index_sequence<I...>) {
-    (std::get<I>(counters).for_each([&](const char* name, std::int64_t& v) {
-         f(std::string(std::tuple_element_t<I, MoveFamilies>::kName) + "_" + name, v);
+    (std::get<I>(counters).for_each([&](const char* name, std::int64_t& v, const char* meaning) {
+         f(std::string(std::tuple_element_t<I, MoveFamilies>::kName) + "_" + name, v, meaning);
      }),
      ...);
 }
 
-// Every counter of a state, named once (ChainCounters and each move family's, prefixed by the
-// family's name), handed to f(name, value).
+// Every counter of a state, named and described once (ChainCounters and each move family's,
+// prefixed by the family's name), handed to f(name, value, meaning).
 template <class F>
 void for_each_counter(ChainState& s, F&& f) {
-    s.counters.for_each([&](const char* name, std::int64_t& v) { f(std::string(name), v); });
+    s.counters.for_each([&](const char* name, std::int64_t& v, const char* meaning) { f(std::string(name), v, meaning); });
     for_each_move_counter(s.move_counters, f, std::make_index_sequence<std::tuple_size_v<MoveFamilies>>{});
 }
 
 inline pybind11::dict counters_dict(ChainState& s) {
     pybind11::dict d;
-    for_each_counter(s, [&](const std::string& name, std::int64_t& v) { d[name.c_str()] = v; });
+    for_each_counter(s, [&](const std::string& name, std::int64_t& v, const char*) { d[name.c_str()] = v; });
     return d;
+}
+
+// The `counters` docstring, written from the counters themselves, so that a new move family's
+// counters are documented by its header alone.
+inline std::string counters_doc() {
+    ChainState s;
+    std::string doc = "Every counter of the chain, a dict name -> count:\n";
+    for_each_counter(s, [&](const std::string& name, std::int64_t&, const char* meaning) {
+        doc += "\n- ``" + name + "``: " + meaning;
+    });
+    return doc;
 }
 
 // The options' table (montecarlo/options.hpp) seen from Python: a value given for a field is
@@ -294,14 +305,7 @@ void export_montecarlo(pybind11::module_& m, const char* class_name) {
             "The chain's state, a value (MonteCarloState): pass it as MonteCarlo(..., state=) to continue the chain.")
         .def_property_readonly(
             "counters", [](MC& mc) { return counters_dict(mc.state); },
-            "attempted, accepted, screened (rejected by the surrogate), cluster_attempted, cluster_accepted (cluster "
-            "translations, counted in attempted/accepted too), cluster_rebonded (accepted translations that made or "
-            "broke bonds), shift_, rotation_, reflection_attempted/accepted/rebonded (isometry moves, the same; rebonded: "
-            "changed the bond count), surface_attempted, surface_accepted (surface moves, within attempted/accepted), "
-            "outline_attempted, outline_accepted, outline_inserted, outline_removed (grand-canonical moves), cache_hits, "
-            "cache_misses, cache_clears, minimisations, evaluations (energy+gradient evaluations, 1 per linear "
-            "solve), fallbacks (linear solve refused, done by L-BFGS), unconverged, factorizations, warm_starts "
-            "(Newton from the parents' relaxed state), warm_restarts (of those, redone from the linear solution).")
+            counters_doc().c_str())
         .def_property_readonly("cache_size", [](const MC& mc) { return mc.chain.cache_size(); })
         .def("clear_cache", [](MC& mc) { mc.chain.clear_cache(); });
     // The factory: pybind11 picks the class of the model passed.

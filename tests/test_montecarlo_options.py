@@ -165,3 +165,18 @@ def test_the_documentation_lists_every_field(particle):
         if name in RUN_FIELDS:
             assert f"    {name} : " in MonteCarloOptions.__doc__
     assert "force_scale : " not in MonteCarloOptions.__doc__  # the particle gives it
+
+
+def test_every_counter_is_documented_once_with_a_meaning(particle):
+    """The ``counters`` docstring is written from the counters' own table: each counter a chain
+    reports has exactly one line with a non-empty meaning, and no line names a counter the chain
+    does not report (a family whose ``for_each`` forgot a meaning, or a hand-written list gone
+    stale, fails here)."""
+    chain = _kernel.MonteCarlo(particle._kernel_model, 0.01, 4, 2, 0)
+    documented = {}
+    for line in type(chain).counters.__doc__.splitlines():
+        if line.startswith("- ``"):
+            name, meaning = line[4:].split("``: ", 1)
+            assert name not in documented and meaning.strip()
+            documented[name] = meaning
+    assert set(documented) == set(chain.counters)

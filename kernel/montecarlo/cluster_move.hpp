@@ -29,7 +29,9 @@ struct ClusterMove {
         std::int64_t rebonded = 0;  // accepted shifts that made or broke bonds (aggregates met or split)
         template <class F>
         void for_each(F&& f) {
-            f("attempted", attempted), f("accepted", accepted), f("rebonded", rebonded);
+            f("attempted", attempted, "cluster translations tried (counted in the chain's attempted too)");
+            f("accepted", accepted, "cluster translations accepted (counted in the chain's accepted too)");
+            f("rebonded", rebonded, "accepted translations that made or broke bonds (aggregates met or split)");
         }
     };
     static double probability(const MonteCarloOptions& o) { return o.cluster_moves; }

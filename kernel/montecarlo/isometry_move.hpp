@@ -127,7 +127,9 @@ struct IsometryMove {
         std::int64_t rebonded = 0;  // accepted moves that changed the number of bonds
         template <class F>
         void for_each(F&& f) {
-            f("attempted", attempted), f("accepted", accepted), f("rebonded", rebonded);
+            f("attempted", attempted, "isometries of a linked set tried");
+            f("accepted", accepted, "isometries accepted");
+            f("rebonded", rebonded, "accepted isometries that changed the number of bonds");
         }
     };
     static double probability(const MonteCarloOptions& o) {

@@ -120,7 +120,10 @@ struct OutlineMove {
         std::int64_t inserted = 0, removed = 0;  // accepted insertions and deletions
         template <class F>
         void for_each(F&& f) {
-            f("attempted", attempted), f("accepted", accepted), f("inserted", inserted), f("removed", removed);
+            f("attempted", attempted, "grand-canonical insertions and deletions tried");
+            f("accepted", accepted, "grand-canonical moves accepted");
+            f("inserted", inserted, "accepted insertions at the aggregate's outline");
+            f("removed", removed, "accepted deletions at the aggregate's outline");
         }
     };
     static double probability(const MonteCarloOptions& o) { return o.outline_moves; }

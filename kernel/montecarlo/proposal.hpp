@@ -2,7 +2,8 @@
 //
 // A family is a small type with
 //   static constexpr const char* kName;                 // its counters' prefix ("" for none)
-//   struct Counters { template <class F> void for_each(F&& f); };  // its own counters, named once
+//   struct Counters { template <class F> void for_each(F&& f); };  // its own counters, named and
+//                                                        // described once: f(name, value, meaning)
 //   static double probability(const MonteCarloOptions&); // chance of being tried (the last family
 //                                                        // of MoveFamilies takes the rest)
 //   template <class Chain> bool propose(Chain&, Proposal&, Counters&);   // draws; false: no move

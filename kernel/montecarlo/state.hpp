@@ -27,13 +27,24 @@ struct ChainCounters {
 
     template <class F>
     void for_each(F&& f) {
-        f("attempted", attempted), f("accepted", accepted), f("screened", screened), f("bounded", bounded);
-        f("cache_hits", cache.hits), f("cache_misses", cache.misses), f("cache_clears", cache.clears);
-        f("minimisations", relax.minimisations), f("evaluations", relax.evaluations), f("fallbacks", relax.fallbacks);
-        f("unconverged", relax.unconverged), f("factorizations", relax.factorizations);
-        f("warm_starts", relax.warm_starts), f("warm_restarts", relax.warm_restarts);
-        f("parent_relaxations", relax.parent_factor), f("parent_fresh", relax.parent_fresh);
-        f("parent_chord_steps", relax.parent_chord_steps), f("parent_refactorizations", relax.parent_refactorizations);
+        f("attempted", attempted, "moves tried, every family");
+        f("accepted", accepted, "moves accepted, every family");
+        f("screened", screened, "rejected by the surrogate energy, without relaxing anything");
+        f("bounded", bounded, "rejected at the second stage by a lower bound on the relaxed energy, without relaxing");
+        f("cache_hits", cache.hits, "cluster energies found in the cache of relaxed shapes");
+        f("cache_misses", cache.misses, "cluster energies not in the cache (relaxed)");
+        f("cache_clears", cache.clears, "times the full cache was emptied");
+        f("minimisations", relax.minimisations, "cluster relaxations");
+        f("evaluations", relax.evaluations, "energy and gradient evaluations (1 per linear solve)");
+        f("fallbacks", relax.fallbacks, "relaxations the Newton path refused, done by L-BFGS");
+        f("unconverged", relax.unconverged, "relaxations that did not meet the gradient tolerance");
+        f("factorizations", relax.factorizations, "numeric factorisations of a Hessian");
+        f("warm_starts", relax.warm_starts, "Newton relaxations started from the parents' relaxed state");
+        f("warm_restarts", relax.warm_restarts, "of those, redone from the linear solution (outside the basin)");
+        f("parent_relaxations", relax.parent_factor, "Newton runs on the parent cluster's modified factor (parent_factor.hpp)");
+        f("parent_fresh", relax.parent_fresh, "of the relaxations given a parent, those made fresh instead");
+        f("parent_chord_steps", relax.parent_chord_steps, "chord steps of the runs on the parent's factor");
+        f("parent_refactorizations", relax.parent_refactorizations, "exact Hessians factorised anew along those runs");
     }
 };
 

@@ -28,7 +28,8 @@ struct SurfaceMove {
         std::int64_t attempted = 0, accepted = 0;
         template <class F>
         void for_each(F&& f) {
-            f("attempted", attempted), f("accepted", accepted);
+            f("attempted", attempted, "surface moves tried (within the chain's attempted)");
+            f("accepted", accepted, "surface moves accepted (within the chain's accepted)");
         }
     };
     static double probability(const MonteCarloOptions& o) { return o.surface_moves; }
