@@ -22,6 +22,12 @@ Two commands, used by ``scripts/mc_rule_benchmarks.sh``:
     ``--planned`` (a sample of the jobs was run): the profile's job count per rule and the
     estimated total, the sample's mean times that count.
 
+``compare BEFORE_DIR AFTER_DIR OUT_CSV --before C --after C RULE...``
+    The jobs both benchmark directories hold (same rule, same benchmark file name, i.e. the same
+    output), paired: per rule and over all, the job count and the CPU seconds of both sides and
+    their ratio (after / before). Two commits' profiles can differ in their jobs (a scan
+    redrawn, a kind of run moved to another rule); only the jobs they share compare the engine.
+
 Standard library only: it runs with any Python, on any commit's results.
 """
 from __future__ import annotations
@@ -156,12 +162,48 @@ def table(benchmark_dir: Path, out: Path, commit: str, profile: str, rules: list
         total["jobs_in_profile"] = sum(r["jobs_in_profile"] for r in rows)
         total["cpu_s_total_estimated"] = f"{sum(float(r['cpu_s_total_estimated']) for r in rows):.0f}"
     rows.append(total)
+    sampled = " (a deterministic sample of the jobs: jobs_in_profile and the estimated total)" if planned else ""
+    _write_csv(out, f"# Monte Carlo rules of the {profile} profile at commit {commit}, one job at a time "
+                    f"(scripts/mc_rule_benchmarks.sh){sampled}; {platform.machine()}, {os.cpu_count()} cores\n", rows)
+
+
+def _cpu_by_job(benchmark_dir: Path, rule: str) -> dict[str, float]:
+    """CPU seconds of each job of ``rule`` under ``benchmark_dir``, by benchmark file name."""
+    cpu = {}
+    for tsv in sorted((benchmark_dir / rule).glob("**/*.tsv")):
+        with open(tsv, newline="") as fh:
+            cpu[str(tsv.relative_to(benchmark_dir / rule))] = sum(float(r["cpu_time"])
+                                                                 for r in csv.DictReader(fh, delimiter="\t"))
+    return cpu
+
+
+def compare(before_dir: Path, after_dir: Path, out: Path, before: str, after: str, rules: list[str]) -> None:
+    rows, both_before, both_after = [], 0.0, 0.0
+    for rule in rules:
+        old, new = _cpu_by_job(before_dir, rule), _cpu_by_job(after_dir, rule)
+        shared = sorted(set(old) & set(new))
+        if not shared:
+            continue
+        cpu_before, cpu_after = sum(old[j] for j in shared), sum(new[j] for j in shared)
+        both_before, both_after = both_before + cpu_before, both_after + cpu_after
+        rows.append(dict(rule=rule, jobs=len(shared), cpu_s_before=f"{cpu_before:.0f}", cpu_s_after=f"{cpu_after:.0f}",
+                         ratio=f"{cpu_after / cpu_before:.2f}", before=before, after=after))
+    if not rows:
+        sys.exit(f"compare: no job of {', '.join(rules)} in both {before_dir} and {after_dir}")
+    rows.append(dict(rule="all shared jobs", jobs=sum(r["jobs"] for r in rows), cpu_s_before=f"{both_before:.0f}",
+                     cpu_s_after=f"{both_after:.0f}", ratio=f"{both_after / both_before:.2f}", before=before,
+                     after=after))
+    _write_csv(out, f"# The jobs both commits ran (same rule and output), CPU seconds paired: {before} before, "
+                    f"{after} after (scripts/mc_rule_benchmarks.py compare); {platform.machine()}, "
+                    f"{os.cpu_count()} cores\n", rows)
+
+
+def _write_csv(out: Path, comment: str, rows: list[dict]) -> None:
+    """``rows`` under a ``#`` comment line, written atomically."""
     out.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=out.parent, prefix=f".{out.name}.")
     with os.fdopen(fd, "w", newline="") as fh:
-        sampled = " (a deterministic sample of the jobs: jobs_in_profile and the estimated total)" if planned else ""
-        fh.write(f"# Monte Carlo rules of the {profile} profile at commit {commit}, one job at a time "
-                 f"(scripts/mc_rule_benchmarks.sh){sampled}; {platform.machine()}, {os.cpu_count()} cores\n")
+        fh.write(comment)
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
@@ -185,6 +227,13 @@ def main(argv=None):
     t.add_argument("--profile", required=True)
     t.add_argument("--planned", nargs="*", default=None, metavar="RULE=COUNT")
     t.add_argument("rules", nargs="+")
+    c = sub.add_parser("compare")
+    c.add_argument("before_dir", type=Path)
+    c.add_argument("after_dir", type=Path)
+    c.add_argument("out", type=Path)
+    c.add_argument("--before", required=True)
+    c.add_argument("--after", required=True)
+    c.add_argument("rules", nargs="+")
     s = sub.add_parser("sample")
     s.add_argument("dry_run", type=Path)
     s.add_argument("every", type=int)
@@ -192,6 +241,8 @@ def main(argv=None):
     args = ap.parse_args(argv)
     if args.command == "patch":
         patch(args.rules_dir, args.other_dir, args.rules)
+    elif args.command == "compare":
+        compare(args.before_dir, args.after_dir, args.out, args.before, args.after, args.rules)
     elif args.command == "sample":
         chosen, counts = sample(args.dry_run, args.every, args.rules)
         print("\n".join(chosen))

@@ -13,7 +13,9 @@
 # MC_RULES (space-separated) replaces the rule list; KEEP=1 keeps the temporary worktree (its results/ hold every run's output and log).
 # MC_SAMPLE=K runs about one in K of the rules' jobs (chosen by a checksum of the output path, so two
 # commits run the same jobs) and adds the profile's job count and the estimated total to the table: the paper profile's
-# Monte Carlo is ~12 h of CPU per commit, a sample of 1 in 8 about 1.5 h.
+# Monte Carlo is ~12 h of CPU per commit, a sample of 1 in 8 about 1.5 h. Two commits' profiles can
+# differ in their jobs; `python3 scripts/mc_rule_benchmarks.py compare BEFORE/results/benchmarks
+# AFTER/results/benchmarks OUT.csv --before C --after C RULE...` pairs the jobs both ran.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 COMMIT="${1:?usage: mc_rule_benchmarks.sh COMMIT [quick|paper] [OUT.csv]}"
@@ -63,7 +65,9 @@ bash scripts/setup.sh
 echo "[mc_rule_benchmarks] $SHORT, $PROFILE profile: the Monte Carlo jobs"
 PLANNED=()
 if [ -n "${MC_SAMPLE:-}" ]; then
-  "$PYFRUSTRATE_VENV/bin/snakemake" -n "${CONFIG[@]}" --until "${RULES[@]}" > "$WORK/dry_run.txt"
+  # --forceall: every job of the rules, done or not, so that a resumed measurement samples (and
+  # counts) the same jobs as the first sitting.
+  "$PYFRUSTRATE_VENV/bin/snakemake" -n --forceall "${CONFIG[@]}" --until "${RULES[@]}" > "$WORK/dry_run.txt"
   python3 "$ROOT/scripts/mc_rule_benchmarks.py" sample "$WORK/dry_run.txt" "$MC_SAMPLE" "${RULES[@]}" \
     > "$WORK/targets.txt" 2> "$WORK/planned.txt"
   mapfile -t TARGETS < "$WORK/targets.txt"

@@ -87,3 +87,24 @@ def test_patch_gives_an_older_rule_the_benchmark_directive(tmp_path):
     assert "benchmark:" in (old / "mc.smk").read_text()
     with pytest.raises(SystemExit):
         bench.patch(new, old, ["no_such_rule"])
+
+
+def test_compare_pairs_only_the_jobs_both_commits_ran(tmp_path):
+    before, after = tmp_path / "before", tmp_path / "after"
+    _benchmark_file(before / "montecarlo_run", "shared", 40.0, 41.0, 100.0)
+    _benchmark_file(before / "montecarlo_run", "gone", 500.0, 501.0, 100.0)  # a run the new profile moved away
+    _benchmark_file(after / "montecarlo_run", "shared", 10.0, 12.0, 90.0)
+    _benchmark_file(after / "montecarlo_run", "new", 700.0, 701.0, 90.0)  # a run the old profile did not have
+    _benchmark_file(before / "triangle_montecarlo_run", "t", 2.0, 3.0, 10.0)
+    _benchmark_file(after / "triangle_montecarlo_run", "t", 3.0, 4.0, 10.0)
+    out = tmp_path / "compare.csv"
+    bench.compare(before, after, out, "old1234", "new5678", ["montecarlo_run", "triangle_montecarlo_run"])
+    lines = out.read_text().splitlines()
+    assert lines[0].startswith("#") and "old1234" in lines[0] and "new5678" in lines[0]
+    rows = {row["rule"]: row for row in csv.DictReader(lines[1:])}
+    assert rows["montecarlo_run"]["jobs"] == "1"
+    assert (rows["montecarlo_run"]["cpu_s_before"], rows["montecarlo_run"]["cpu_s_after"]) == ("40", "10")
+    assert rows["montecarlo_run"]["ratio"] == "0.25"
+    assert rows["all shared jobs"]["jobs"] == "2" and rows["all shared jobs"]["ratio"] == f"{13 / 42:.2f}"
+    with pytest.raises(SystemExit, match="no job"):
+        bench.compare(before, after, out, "a", "b", ["montecarlo_validation_sample"])
