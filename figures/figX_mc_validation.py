@@ -2,7 +2,7 @@
 (pyfrustrate.montecarlo.fixed_size; results/montecarlo/validation.json).
 
 (a) Energy per particle including binding of the quenched fibres against their width W (markers,
-one per seed), relative to the ansatz's best straight fibre, with the ansatz's straight fibres
+one per seed; the panels' shared key is the figure's bottom-right slot), relative to the ansatz's best straight fibre, with the ansatz's straight fibres
 (line) and its and the continuum's optimal widths (vertical lines). (b) The same for disks of n
 particles, the ansatz's compact hexagons as the line. (c) The two-sided checks: per check, the final
 energy of the run seeded as the competitor minus that of the run seeded as the predicted state,
@@ -16,6 +16,7 @@ stars: W* read where the scan crosses its own threshold. (e) That crossing: <E>/
 import json
 
 import numpy as np
+from matplotlib.ticker import MaxNLocator
 
 from pyfrustrate import plotting
 from pyfrustrate.io import logging_to
@@ -55,6 +56,21 @@ def draw_two_sided(ax, checks, colors):
     ax.set_title("two-sided checks")
 
 
+def draw_key(ax, colors, seeds):
+    """The key of (a)-(c), in the figure's sixth slot, so that no legend covers data: a colour per
+    Gamma, the line styles of the ansatz and its optima, a marker per seed (in every panel)."""
+    from matplotlib.lines import Line2D
+
+    ax.axis("off")
+    handles = [Line2D([], [], color=c, lw=1, label=rf"ansatz, $\Gamma$ = {G:g}") for G, c in colors.items()]
+    handles += [Line2D([], [], color="0.3", lw=0.8, ls=":", label="ansatz optimum"),
+                Line2D([], [], color="0.3", lw=0.8, ls="--", label="continuum optimum")]
+    handles += [Line2D([], [], ls="none", marker=SEED_MARKERS[k % len(SEED_MARKERS)], ms=4, mfc="w", mec="0.3",
+                       label=f"Monte Carlo, seed {seed}") for k, seed in enumerate(seeds)]
+    ax.legend(handles=handles, loc="upper left", frameon=False, borderaxespad=0.0, handlelength=1.8,
+              title="(a)-(c); seeds: every panel", alignment="left")
+
+
 def grand_panels(axes, validation):
     """(d) <W>(mu) and (e) <E>/<n> - mu of the grand-canonical samples, mu relative to the
     ansatz's threshold."""
@@ -70,8 +86,14 @@ def grand_panels(axes, validation):
     # (its last rows' energies crowd together as W grows).
     widest = max(s["W_mean"] + s["W_std"] for s in samples)
     shown = (row_energy >= offsets.min() - 0.05) & (row_energy <= offsets.max() + 0.05) & (widths <= widest + 6)
-    ax_width.step(row_energy[shown], widths[shown], where="post", color="0.5", lw=1, label="ansatz, T = 0")
-    ax_width.axhline(found[0]["W_ansatz"], color="0.5", lw=0.8, ls=":", label=f"ansatz W* = {found[0]['W_ansatz']}")
+    # The ansatz's lines are labelled where they are drawn, the temperatures in (e)'s legend.
+    ax_width.step(row_energy[shown], widths[shown], where="post", color="0.5", lw=1)
+    ax_width.annotate(r"ansatz, $T$ = 0", (row_energy[shown][-1], widths[shown][-1]), xytext=(-4, 0),
+                      textcoords="offset points", ha="right", va="top", color="0.4")
+    ax_width.axhline(found[0]["W_ansatz"], color="0.5", lw=0.8, ls=":")
+    ax_width.annotate(rf"ansatz $W^*$ = {found[0]['W_ansatz']}", (0.02, found[0]["W_ansatz"]),
+                      xycoords=("axes fraction", "data"), xytext=(0, 2), textcoords="offset points", va="bottom",
+                      color="0.4")
     temperatures = sorted({s["T_over_g"] for s in samples})
     colors = dict(zip(temperatures, ("#e7298a", "#66a61e", "#e6ab02")))
     seeds = sorted({s["seed"] for s in samples})
@@ -79,16 +101,16 @@ def grand_panels(axes, validation):
         for k, seed in enumerate(seeds):
             scan = [s for s in samples if s["T_over_g"] == T and s["seed"] == seed]
             mu = np.array([s["mu_over_g"] for s in scan]) - threshold
-            marker = SEED_MARKERS[k % len(SEED_MARKERS)]
-            label = rf"$T$ = {T:g} g" + (f", seed {seed}" if len(seeds) > 1 else "")
+            marker = SEED_MARKERS[k % len(SEED_MARKERS)]  # the seeds' markers are the key's
+            label = rf"$T$ = {T:g} g" if k == 0 else None
             ax_width.errorbar(mu, [s["W_mean"] for s in scan], yerr=[s["W_std"] for s in scan], fmt=marker, ms=4,
                               mfc="w", mec=colors[T], ecolor=colors[T], elinewidth=0.8, label=label)
             ax_gap.plot(mu, [s["energy_per_particle_over_g"] - s["mu_over_g"] for s in scan], marker + "-", ms=4,
-                        mfc="w", mec=colors[T], color=colors[T], lw=0.8, label=label)
+                        mfc="w", mec=colors[T], color=colors[T], lw=0.8)
         record = next(r for r in found if r["T_over_g"] == T)
         for W, mu in zip(record["W_star"], record["mu_threshold_over_g"]):
             if W is not None:
-                ax_width.plot(mu - threshold, W, "*", color=colors[T], ms=8, label=rf"$W^*$ at $T$ = {T:g} g")
+                ax_width.plot(mu - threshold, W, "*", color=colors[T], ms=8)
                 ax_gap.plot(mu - threshold, 0.0, "*", color=colors[T], ms=8)
     for ax in axes:
         ax.axvline(0.0, color="0.5", lw=0.8, ls="--")
@@ -98,12 +120,13 @@ def grand_panels(axes, validation):
     ax_gap.set_ylabel(r"$(\langle E\rangle/\langle n\rangle - \mu)\,/\,g$")
     ax_width.set_title(rf"grand canonical, $\nu$ = {samples[0]['nu']:g}, $\Gamma$ = {samples[0]['Gamma']:g}")
     ax_gap.set_title(r"threshold: $\langle E\rangle/\langle n\rangle = \mu$")
-    for ax in axes:
-        handles, labels = ax.get_legend_handles_labels()
-        unique = dict(zip(labels, handles))
-        ax.legend(unique.values(), unique.keys(), loc="upper left", frameon=True, facecolor="w", edgecolor="none")
-        low, high = ax.get_ylim()
-        ax.set_ylim(low, high + 0.8 * (high - low))  # room for the legend above the data
+    ax_width.yaxis.set_major_locator(MaxNLocator(integer=True))  # widths are whole rows
+    from matplotlib.lines import Line2D
+
+    star = Line2D([], [], ls="none", marker="*", ms=8, color="0.3",
+                  label=r"$W^*$: $\langle E\rangle/\langle n\rangle = \mu$")
+    handles, _ = ax_width.get_legend_handles_labels()
+    ax_gap.legend(handles=handles + [star], loc="upper right", frameon=False)  # the crossing falls to the right
 
 
 def main(validation_path, point_paths, outputs, provenance=None):
@@ -133,24 +156,23 @@ def main(validation_path, point_paths, outputs, provenance=None):
                 best, continuum = record["n_ansatz"], record["n_continuum"]
             reference = ansatz.min()
             shown = (ansatz_sizes >= 0.8 * sizes.min()) & (ansatz_sizes <= 1.2 * sizes.max())
-            ax.plot(ansatz_sizes[shown], ansatz[shown] - reference, "-", color=color, lw=1,
-                    label=rf"ansatz, $\Gamma$ = {record['Gamma']:g}")
-            for k, (seed, energy) in enumerate(zip(record["seeds"], record["energy_per_particle_over_g"])):
+            ax.plot(ansatz_sizes[shown], ansatz[shown] - reference, "-", color=color, lw=1)
+            for k, energy in enumerate(record["energy_per_particle_over_g"]):
                 ax.plot(sizes, np.array(energy) - reference, SEED_MARKERS[k % len(SEED_MARKERS)], ms=4, mfc="w",
-                        mec=color, label=f"Monte Carlo, seed {seed}")
-            ax.axvline(best, color=color, lw=0.8, ls=":", label="ansatz optimum")
-            ax.axvline(continuum, color=color, lw=0.8, ls="--", label="continuum optimum")
+                        mec=color)
+            ax.axvline(best, color=color, lw=0.8, ls=":")
+            ax.axvline(continuum, color=color, lw=0.8, ls="--")
         ax.set_xlabel("fibre width W (rows)" if scan == "fibre" else "disk size n (particles)")
         ax.set_ylabel(r"$(e - e^*_{\rm ansatz})\,/\,g$ per particle")
         nu = next(r["nu"] for r in validation["points"] if r["scan"] == scan)
         ax.set_title(("straight fibres" if scan == "fibre" else "disks") + rf", $\nu$ = {nu:g}")
-        handles, labels = ax.get_legend_handles_labels()
-        unique = dict(zip(labels, handles))
-        ax.legend(unique.values(), unique.keys(), loc="upper center", frameon=True, facecolor="w", edgecolor="none")
         low, high = ax.get_ylim()
-        ax.set_ylim(min(low, 0), high + 1.0 * (high - min(low, 0)))  # room for the legend above the data
+        ax.set_ylim(min(low, 0), high)
     draw_two_sided(axes[2], validation["two_sided"], colors)
     grand_panels(grand_axes, validation)
+    seeds = sorted({seed for r in validation["points"] for seed in r["seeds"]})
+    draw_key(fig.add_axes([(1.5 + 5.8 * 2) / width_cm, 1.1 / height_cm, 4.3 / width_cm, 4.3 / height_cm]),
+             colors, seeds)
     for ax, letter in zip(axes + grand_axes, "abcde"):
         plotting.panel_label(ax, letter)
     plotting.save(fig, outputs, provenance)
