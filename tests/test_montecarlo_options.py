@@ -180,3 +180,15 @@ def test_every_counter_is_documented_once_with_a_meaning(particle):
             assert name not in documented and meaning.strip()
             documented[name] = meaning
     assert set(documented) == set(chain.counters)
+
+
+def test_the_defaults_point_to_files_that_exist():
+    """``DEFAULTS_MEASURED`` names where the defaults were measured; every file it names must be
+    in the repository (it pointed into a README section long after the README lost it)."""
+    from pathlib import Path
+
+    from pyfrustrate.montecarlo import DEFAULTS_MEASURED
+
+    root = Path(__file__).resolve().parents[1]
+    for entry in DEFAULTS_MEASURED.split(", "):
+        assert (root / entry.split(" (")[0]).is_file(), entry

@@ -26,10 +26,11 @@ __all__ = ["MonteCarloOptions", "binding", "chain_options", "check_particle", "D
 
 #: Where the defaults of ``MonteCarloOptions`` were measured: the paper profile's Monte Carlo
 #: diagram (81 runs of 200 hexagons in 60 x 60, ell = 5), whose runs with these moves ended within
-#: 5 bulk energies of the box's ground state most often of the settings tried (README, "With
-#: surface moves, the paper profile's diagram"; config/paper.yaml, ``montecarlo``;
-#: benchmarks/bench_equilibration.py compares the move settings at equal sweeps).
-DEFAULTS_MEASURED = "README.md (paper profile's Monte Carlo diagram), config/paper.yaml, benchmarks/bench_equilibration.py"
+#: 5 bulk energies of the box's ground state most often of the settings tried (the documentation's
+#: results log, "With surface moves, the paper profile's diagram"; config/paper.yaml,
+#: ``montecarlo``; benchmarks/bench_equilibration.py compares the move settings at equal sweeps).
+DEFAULTS_MEASURED = ("docs/results_log.md (the paper profile's Monte Carlo diagram with surface moves), config/paper.yaml, "
+                     "benchmarks/bench_equilibration.py")
 
 
 def check_particle(particle):
