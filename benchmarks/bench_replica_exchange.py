@@ -4,7 +4,7 @@ does the Monte Carlo reach the finite-size ground state?
 System (default): 400 particles in an 85 x 85 box at ell = 5, eps = 0.01, nu = 0.9, Gamma = 0.3,
 where the workflow's annealing (4000 sweeps, linear schedule from T0 = g, linked cluster moves)
 ends tens of bulk particle energies above the best single aggregate of 400 particles (+28.0 at
-seed 1, measured with bench_equilibration.py; README). For each seed:
+seed 1, measured with bench_equilibration.py; docs/results_log.md). For each seed:
 
 * ``anneal``            ``pyfrustrate.anneal`` with ``sweeps`` sweeps (the workflow's moves: Newton at tol
                         1e-3, cluster_moves 0.05, cluster_link 0.9, bonded_moves 0, surface_moves 0,

@@ -12,7 +12,7 @@ With exchange["rounds"] > 0, at Gamma_measured >= exchange["Gamma_min"], the ann
 configuration then seeds every replica of a low-temperature replica exchange
 (pyfrustrate.replica_exchange, exchange["replicas"] temperatures from exchange["temperatures"][0] g
 to [1] g, geometric, the same moves): the hot replicas find the outline with the most bonds, which
-the linear schedule leaves one bond short where it is favoured only below ~0.09 g (README), and
+the linear schedule leaves one bond short where it is favoured only below ~0.09 g (docs/results_log.md), and
 the swaps carry it down. The run's result is then the coldest replica after its T = 0 descent;
 the anneal's own energy and bonds are kept as anneal_energy and anneal_bonds.
 
