@@ -70,6 +70,28 @@ Eigen::VectorXd take_dense(cholmod_dense* x, cholmod_common* c) {
     return out;
 }
 
+// x <- (L D L^T)^-1 x for a unit lower triangular L stored by columns: the below-diagonal
+// entries of column j at row[k], value[k] for k in [begin(j), end(j)), D's entries diagonal(j).
+// The kernel's own LDL^T and the modifiable factor (CHOLMOD's simplicial LDL^T, read in place)
+// share it.
+// x[j] is held in a local in each column's loop (the compiler cannot prove that no row[k] is j);
+// the operations and their order are those of the plain loops, so is the result.
+template <class Begin, class End, class Diagonal>
+void ldl_solve_in_place(int n, Begin begin, End end, const int* row, const double* value, Diagonal diagonal,
+                        Eigen::VectorXd& solution) {
+    double* x = solution.data();
+    for (int j = 0; j < n; ++j) {
+        const double xj = x[j];
+        for (int k = begin(j), last = end(j); k < last; ++k) x[row[k]] -= value[k] * xj;
+    }
+    for (int j = 0; j < n; ++j) x[j] /= diagonal(j);
+    for (int j = n - 1; j >= 0; --j) {
+        double xj = x[j];
+        for (int k = begin(j), last = end(j); k < last; ++k) xj -= value[k] * x[row[k]];
+        x[j] = xj;
+    }
+}
+
 }  // namespace
 
 namespace {
@@ -465,11 +487,10 @@ Eigen::VectorXd CholeskyFactor::solve(const Eigen::VectorXd& b) const {
         const CholeskyAnalysis& a = *analysis_;
         Eigen::VectorXd x(n);
         for (int k = 0; k < n; ++k) x[k] = b[a.perm_[k]];
-        for (int j = 0; j < n; ++j)
-            for (int p = a.lp_[j]; p < a.lp_[j + 1]; ++p) x[li_[p]] -= lx_[p] * x[j];
-        for (int j = 0; j < n; ++j) x[j] /= d_[j];
-        for (int j = n - 1; j >= 0; --j)
-            for (int p = a.lp_[j]; p < a.lp_[j + 1]; ++p) x[j] -= lx_[p] * x[li_[p]];
+        const int* lp = a.lp_.data();
+        ldl_solve_in_place(
+            n, [lp](int j) { return lp[j]; }, [lp](int j) { return lp[j + 1]; }, li_.data(), lx_.data(),
+            [this](int j) { return d_[j]; }, x);
         Eigen::VectorXd out(n);
         for (int k = 0; k < n; ++k) out[a.perm_[k]] = x[k];
         return out;
@@ -675,16 +696,20 @@ bool ModifiableFactor::update(const std::vector<int>& rows, const Eigen::MatrixX
 }
 
 Eigen::VectorXd ModifiableFactor::solve(const Eigen::VectorXd& b) const {
-    auto* c = common_of(common_);
     if (b.size() != n_) throw std::invalid_argument("modifiable factor: right-hand side has the wrong size");
-    cholmod_dense rhs = dense_view(b);
-    cholmod_dense* x = nullptr;
-    {
-        SerialOpenMP serial;
-        x = cholmod_solve(CHOLMOD_LDLt, factor_of(factor_), &rhs, c);
-    }
-    if (!x) throw std::runtime_error("modifiable factor: CHOLMOD's solve failed");
-    return take_dense(x, c);
+    // Read in place: a simplicial LDL^T in natural order (start_common), each column its diagonal
+    // D(j) first, then nz[j] - 1 entries of L (unpacked: room may follow). Without CHOLMOD's
+    // allocation of its workspace and of the result.
+    const auto* L = factor_of(factor_);
+    if (L->is_super || L->is_ll) throw std::logic_error("modifiable factor: not a simplicial LDL^T");
+    const int* p = static_cast<const int*>(L->p);
+    const int* nz = static_cast<const int*>(L->nz);
+    const double* x = static_cast<const double*>(L->x);
+    Eigen::VectorXd out = b;
+    ldl_solve_in_place(
+        n_, [p](int j) { return p[j] + 1; }, [p, nz](int j) { return p[j] + nz[j]; }, static_cast<const int*>(L->i), x,
+        [p, x](int j) { return x[p[j]]; }, out);
+    return out;
 }
 
 long ModifiableFactor::nonzeros() const {
