@@ -72,8 +72,6 @@ Eigen::VectorXd take_dense(cholmod_dense* x, cholmod_common* c) {
 
 // x <- (L D L^T)^-1 x for a unit lower triangular L stored by columns: the below-diagonal
 // entries of column j at row[k], value[k] for k in [begin(j), end(j)), D's entries diagonal(j).
-// The kernel's own LDL^T and the modifiable factor (CHOLMOD's simplicial LDL^T, read in place)
-// share it.
 // x[j] is held in a local in each column's loop (the compiler cannot prove that no row[k] is j);
 // the operations and their order are those of the plain loops, so is the result.
 template <class Begin, class End, class Diagonal>
@@ -696,20 +694,19 @@ bool ModifiableFactor::update(const std::vector<int>& rows, const Eigen::MatrixX
 }
 
 Eigen::VectorXd ModifiableFactor::solve(const Eigen::VectorXd& b) const {
+    // CHOLMOD's solve: ldl_solve_in_place on its arrays was slower on the 817-particle disk (a
+    // memory-bound solve; CHOLMOD's simplicial one takes chains of columns of like pattern, such
+    // as a corner's two rows, in one pass).
+    auto* c = common_of(common_);
     if (b.size() != n_) throw std::invalid_argument("modifiable factor: right-hand side has the wrong size");
-    // Read in place: a simplicial LDL^T in natural order (start_common), each column its diagonal
-    // D(j) first, then nz[j] - 1 entries of L (unpacked: room may follow). Without CHOLMOD's
-    // allocation of its workspace and of the result.
-    const auto* L = factor_of(factor_);
-    if (L->is_super || L->is_ll) throw std::logic_error("modifiable factor: not a simplicial LDL^T");
-    const int* p = static_cast<const int*>(L->p);
-    const int* nz = static_cast<const int*>(L->nz);
-    const double* x = static_cast<const double*>(L->x);
-    Eigen::VectorXd out = b;
-    ldl_solve_in_place(
-        n_, [p](int j) { return p[j] + 1; }, [p, nz](int j) { return p[j] + nz[j]; }, static_cast<const int*>(L->i), x,
-        [p, x](int j) { return x[p[j]]; }, out);
-    return out;
+    cholmod_dense rhs = dense_view(b);
+    cholmod_dense* x = nullptr;
+    {
+        SerialOpenMP serial;
+        x = cholmod_solve(CHOLMOD_LDLt, factor_of(factor_), &rhs, c);
+    }
+    if (!x) throw std::runtime_error("modifiable factor: CHOLMOD's solve failed");
+    return take_dense(x, c);
 }
 
 long ModifiableFactor::nonzeros() const {
