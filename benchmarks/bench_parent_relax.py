@@ -22,13 +22,19 @@ The three run round-robin, ``--repeats`` times; times are process CPU, min over 
 Prints and writes (``--csv``) per case: particles, times, the ratios warm/cold and parent/cold
 (the goal's), chord steps, whether the parent's factor served, and the relative energy
 difference of each path from the cold one (all three stop at the same force tolerance).
+``--baseline DIR`` also runs every nu with another build of the package (``DIR`` holding its
+``pyfrustrate/``, e.g. ``pip install --no-deps --target DIR`` of an earlier commit), each build
+in a child process, alternately (column ``build``: ``this`` or ``baseline``).
 
 Usage: ``python benchmarks/bench_parent_relax.py [--radius 16] [--nu 0.9 0.4] [--repeats 5]
-[--csv benchmarks/results/parent_relax.csv] [--quick]``
+[--baseline DIR] [--csv benchmarks/results/parent_relax.csv] [--quick]``
 """
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -113,28 +119,53 @@ def case(radius, nu, repeats):
     return rows
 
 
+def case_in_child(package_dir, radius, nu, repeats):
+    """case() in a child process whose pyfrustrate comes from package_dir (None: this one's)."""
+    env = dict(os.environ)
+    if package_dir is not None:
+        env["PYTHONPATH"] = os.pathsep.join([str(Path(package_dir).resolve())] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
+    out = subprocess.run([sys.executable, __file__, "--child", str(radius), str(nu), str(repeats)],
+                         env=env, check=True, capture_output=True, text=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
 def main(argv=None):
+    if argv is None and len(sys.argv) > 1 and sys.argv[1] == "--child":
+        radius, nu, repeats = sys.argv[2:5]
+        print(json.dumps(case(int(radius), float(nu), int(repeats))))
+        return
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--radius", type=int, default=16, help="disk radius: 1 + 3R(R+1) particles (16: 817)")
     ap.add_argument("--nu", type=float, nargs="+", default=[0.9, 0.4])
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--csv", type=Path, default=None, help="write the table here")
     ap.add_argument("--quick", action="store_true", help="a disk of R = 5, one nu, two repeats")
+    ap.add_argument("--baseline", type=Path, default=None,
+                    help="a directory holding another build's pyfrustrate/, run alternately with this one")
     args = ap.parse_args(argv)
+    if args.baseline is not None and not (args.baseline / "pyfrustrate" / "__init__.py").is_file():
+        ap.error(f"--baseline: {args.baseline} holds no pyfrustrate/ package")
     radius, nus, repeats = (5, [0.9], 2) if args.quick else (args.radius, args.nu, args.repeats)
     print(f"{_common.machine_line()}\n{_common.source_line()}")
     print(f"One relaxation after a one-particle change against a cold one, ell = {ELL}, eps = {EPS}, tol {TOL} F; "
           f"process CPU, min of {repeats} (goal: parent/cold <= {GOAL})")
-    rows = [row for nu in nus for row in case(radius, nu, repeats)]
+    builds = {"this": None} if args.baseline is None else {"this": None, "baseline": args.baseline}
+    rows = []
+    for nu in nus:
+        for build, package_dir in builds.items():
+            measured = (case(radius, nu, repeats) if args.baseline is None
+                        else case_in_child(package_dir, radius, nu, repeats))
+            rows += [{"build": build, **row} for row in measured]
     print(_common.table(
-        [(r["radius"], r["nu"], r["move"], r["particles"], f"{r['cold_ms']:.2f}", f"{r['warm_ms']:.2f}",
+        [(r["build"], r["radius"], r["nu"], r["move"], r["particles"], f"{r['cold_ms']:.2f}", f"{r['warm_ms']:.2f}",
           f"{r['parent_ms']:.2f}", f"{r['warm_over_cold']:.2f}", f"{r['parent_over_cold']:.3f}", r["from_parent"],
           r["parent_steps"], f"{r['parent_rel_energy_diff']:.1e}") for r in rows],
-        ["R", "nu", "move", "particles", "cold ms", "warm ms", "parent ms", "warm/cold", "parent/cold", "parent used",
-         "chord steps", "dE/E parent"]))
+        ["build", "R", "nu", "move", "particles", "cold ms", "warm ms", "parent ms", "warm/cold", "parent/cold",
+         "parent used", "chord steps", "dE/E parent"]))
     if args.csv:
         _common.write_csv(args.csv, rows, {"benchmark": "bench_parent_relax", "ell": ELL, "eps": EPS, "tol": TOL,
-                                           "repeats": repeats})
+                                           "repeats": repeats,
+                                           "baseline": str(args.baseline) if args.baseline else None})
 
 
 if __name__ == "__main__":

@@ -341,22 +341,21 @@ std::shared_ptr<RelaxedCluster> modified_cluster(const Model& model, const Topol
         return nullptr;
     }
     // Particles matched by site; corners through the slots of matched particles.
-    std::map<Site, int> parent_particle;
-    for (int p = 0; p < pt.n_particles(); ++p) parent_particle.emplace(pt.sites[p], p);
+    const SiteLookup parent_particle(pt.sites, pt.tiling().sublattices);
     const int nc = child.n_corners();
     std::vector<int> parent_corner(nc, -1), child_corner(pt.n_corners(), -1);
     std::vector<int> added;
     std::vector<char> kept(pt.n_particles(), 0), absolute(child.n_particles(), absolute_blocks);
     for (int p = 0; p < child.n_particles(); ++p) {
-        const auto it = parent_particle.find(child.sites[p]);
-        if (it == parent_particle.end()) {
+        const int match = parent_particle(child.sites[p]);
+        if (match < 0) {
             added.push_back(p);
             continue;
         }
-        kept[it->second] = 1;
-        absolute[p] = parent.absolute_block[it->second];
+        kept[match] = 1;
+        absolute[p] = parent.absolute_block[match];
         for (int s = 0; s < C; ++s) {
-            const int c = child.corner[p][s], q = pt.corner[it->second][s];
+            const int c = child.corner[p][s], q = pt.corner[match][s];
             if ((parent_corner[c] >= 0 && parent_corner[c] != q) || (child_corner[q] >= 0 && child_corner[q] != c)) {
                 reason = "corners joined or split otherwise than by the particles that changed";
                 return nullptr;

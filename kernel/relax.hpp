@@ -29,6 +29,55 @@
 
 namespace pyfrustrate {
 
+// Each site's particle in a list of distinct sites (a topology's), -1 for a site not in it.
+// A table over the sites' bounding box answers with one load; it is used where the box holds at
+// most some tens of times as many sites as there are particles (an aggregate, a loose cluster),
+// else a sorted list searched by bisection. With a std::map and a sorted list of (site, particle) pairs, the
+// look-ups of rigid_pieces and of the parent's matching (modified_cluster) were the largest item
+// of a relaxation from the parent's factor of an 817-particle disk (perf, bench_parent_relax).
+class SiteLookup {
+   public:
+    SiteLookup(const std::vector<Site>& sites, int sublattices) : sublattices_(sublattices) {
+        if (sites.empty()) return;
+        long i_min = sites[0][0], i_max = i_min, j_min = sites[0][1], j_max = j_min;
+        for (const Site& s : sites) {
+            i_min = std::min<long>(i_min, s[0]), i_max = std::max<long>(i_max, s[0]);
+            j_min = std::min<long>(j_min, s[1]), j_max = std::max<long>(j_max, s[1]);
+        }
+        const long width = i_max - i_min + 1, height = j_max - j_min + 1;
+        const long n = static_cast<long>(sites.size());
+        const long most_slots = 32 * n + 1024;  // the table's fill costs about as much as the look-ups then
+        if (width <= most_slots && height <= most_slots && width * height * sublattices <= most_slots) {
+            i0_ = i_min, j0_ = j_min, width_ = width, height_ = height;
+            table_.assign(width * height * sublattices, -1);
+            for (int p = 0; p < static_cast<int>(sites.size()); ++p) {
+                int& slot = table_[slot_of(sites[p])];
+                if (slot < 0) slot = p;
+            }
+        } else {
+            sorted_.reserve(sites.size());
+            for (int p = 0; p < static_cast<int>(sites.size()); ++p) sorted_.emplace_back(sites[p], p);
+            std::sort(sorted_.begin(), sorted_.end());
+        }
+    }
+    int operator()(const Site& s) const {
+        if (!table_.empty()) {
+            const long i = s[0] - i0_, j = s[1] - j0_;
+            if (i < 0 || i >= width_ || j < 0 || j >= height_ || s[2] < 0 || s[2] >= sublattices_) return -1;
+            return table_[slot_of(s)];
+        }
+        const auto it = std::lower_bound(sorted_.begin(), sorted_.end(), std::make_pair(s, -1));
+        return it != sorted_.end() && it->first == s ? it->second : -1;
+    }
+
+   private:
+    long slot_of(const Site& s) const { return ((s[0] - i0_) * height_ + (s[1] - j0_)) * sublattices_ + s[2]; }
+    int sublattices_;
+    long i0_ = 0, j0_ = 0, width_ = 0, height_ = 0;
+    std::vector<int> table_;
+    std::vector<std::pair<Site, int>> sorted_;
+};
+
 // Degrees of freedom held fixed to remove the three rigid-body zero modes (two translations
 // and a rotation, which also turns the period vectors): corner 0, and the coordinate of the
 // corner farthest from it that a rotation about corner 0 moves most. Where every corner of a
@@ -348,7 +397,14 @@ MinimizeResult newton_from(const Model& model, const Topology& topology, Vector 
             if (!hessian) hessian = std::make_unique<CholeskyFactor>(cache.analysis());
             const std::vector<double> h = net.hessian(u, pat, /*exact=*/true);
             std::vector<double> damped = h;
-            for (int attempt = 0; attempt < 30; ++attempt) {
+            // A diagonal entry <= 0 stays so under this damping, and every attempt would fail
+            // (an LDL^T pivot is at most its diagonal entry while the pivots before it are
+            // positive): the shifts are raised as the failures would raise them, without the
+            // factorisations (in a dense Monte Carlo run, 3 % of them were such attempts).
+            bool hopeless = false;
+            for (int j = 0; j < pat.n_free && !hopeless; ++j) hopeless = !(h[pat.column_start[j + 1] - 1] > 0);
+            for (int attempt = 0; attempt < 30 && hopeless; ++attempt) shift = shift > 0 ? 10 * shift : 1e-4;
+            for (int attempt = 0; attempt < 30 && !hopeless; ++attempt) {
                 if (shift > 0)
                     for (int j = 0; j < pat.n_free; ++j) {
                         const int diagonal = pat.column_start[j + 1] - 1;  // rows sorted: last is j

@@ -70,9 +70,7 @@ struct RelaxExtras {
 inline int rigid_pieces(const Topology& t) {
     if (t.periodicity != Periodicity::None) return 1;
     const int np = t.n_particles();
-    std::vector<std::pair<Site, int>> sorted(np);
-    for (int p = 0; p < np; ++p) sorted[p] = {t.sites[p], p};
-    std::sort(sorted.begin(), sorted.end());
+    const SiteLookup particle_at(t.sites, t.tiling().sublattices);
     std::vector<int> root(np);
     for (int p = 0; p < np; ++p) root[p] = p;
     auto find = [&](int p) {
@@ -81,9 +79,8 @@ inline int rigid_pieces(const Topology& t) {
     };
     for (int p = 0; p < np; ++p)
         for (int d = 0; d < t.tiling().neighbours; ++d) {
-            const Site n = neighbour_of(t.tiling(), t.sites[p], d);
-            const auto it = std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(n, -1));
-            if (it != sorted.end() && it->first == n) root[find(p)] = find(it->second);
+            const int q = particle_at(neighbour_of(t.tiling(), t.sites[p], d));
+            if (q >= 0) root[find(p)] = find(q);
         }
     int pieces = 0;
     for (int p = 0; p < np; ++p) pieces += find(p) == p;

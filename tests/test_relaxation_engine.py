@@ -165,3 +165,39 @@ def test_relaxations_on_two_threads_at_once_equal_the_serial_one_bit_for_bit():
     with ThreadPoolExecutor(2) as pool:
         side_by_side = list(pool.map(lambda _: pf.relax(particle, disk, method="newton", tol=1e-10), range(40)))
     assert all(np.array_equal(r.state, serial.state) and r.energy == serial.energy for r in side_by_side)
+
+
+def _pieces_by_search(sites, tiling):
+    """Edge-connected pieces of a set of sites, by breadth-first search over neighbour_sites."""
+    left, pieces = set(sites), 0
+    while left:
+        pieces += 1
+        frontier = [left.pop()]
+        while frontier:
+            for n in T.neighbour_sites(frontier.pop(), tiling):
+                if n in left:
+                    left.remove(n)
+                    frontier.append(n)
+    return pieces
+
+
+@pytest.mark.parametrize("tiling", ["hexagon", "triangle"])
+@pytest.mark.parametrize("spread", [3, 40_000], ids=["compact", "spread"])
+def test_rigid_pieces_counts_the_edge_connected_pieces(tiling, spread):
+    # Blobs grown site by site, shifted apart: a few lattice spacings (the kernel's look-up table
+    # over the bounding box) or tens of thousands (its sorted fallback), some blobs touching.
+    rng = np.random.default_rng(11)
+    width = 3 if tiling == "triangle" else 2
+    for trial in range(6):
+        sites = set()
+        for blob in range(rng.integers(1, 5)):
+            shift = rng.integers(-spread, spread + 1, size=2)
+            seed_site = (int(shift[0]), int(shift[1])) + ((int(rng.integers(0, 2)),) if width == 3 else ())
+            grown = [seed_site]
+            for _ in range(rng.integers(0, 12)):
+                options = T.neighbour_sites(grown[rng.integers(len(grown))], tiling)
+                grown.append(options[rng.integers(len(options))])
+            sites.update(grown)
+        sites = sorted(sites)
+        topology = T.cluster(np.array(sites), tiling=tiling)
+        assert _kernel.rigid_pieces(topology.kernel) == _pieces_by_search(sites, tiling), (trial, sites)
