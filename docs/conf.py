@@ -89,13 +89,14 @@ measured_sources = {
     "results/ansatz/line_tension.json": "bash scripts/figures.sh results/ansatz/line_tension.json (rule ansatz_line_tension)",
     "results/montecarlo/validation.json": "bash scripts/figures.sh results/montecarlo/validation.json (rule montecarlo_validation)",
     "benchmarks/results/anneal_defaults.csv": "python benchmarks/bench_anneal_defaults.py",
-    "benchmarks/results/mc_goals_own_ldl_dense.csv":
-        "python benchmarks/bench_mc_goals.py --only 'b dense' --dense-sweeps 1000 --starts warm parent "
-        "--parent-min-particles 16 --baseline BASE --csv benchmarks/results/mc_goals_own_ldl_dense.csv",
-    "benchmarks/results/mc_goals_own_ldl_sparse.csv":
+    "benchmarks/results/parent_relax.csv":
+        "python benchmarks/bench_parent_relax.py --repeats 7 --baseline BASE --csv benchmarks/results/parent_relax.csv",
+    "benchmarks/results/mc_goals_speed_dense.csv":
+        "python benchmarks/bench_mc_goals.py --only 'b dense' --dense-sweeps 1000 --starts warm --baseline BASE "
+        "--csv benchmarks/results/mc_goals_speed_dense.csv",
+    "benchmarks/results/mc_goals_speed_sparse.csv":
         "python benchmarks/bench_mc_goals.py --only 'c sparse nu=0.4 Gamma=0.1' 'c sparse nu=0.9 Gamma=0.5' "
-        "--sparse-sweeps 2000 --starts warm parent --parent-min-particles 16 --baseline BASE "
-        "--csv benchmarks/results/mc_goals_own_ldl_sparse.csv",
+        "--sparse-sweeps 2000 --starts warm --baseline BASE --csv benchmarks/results/mc_goals_speed_sparse.csv",
     "benchmarks/results/mc_rules_quick_before.csv":
         "bash scripts/mc_rule_benchmarks.sh 4e30625 quick benchmarks/results/mc_rules_quick_before.csv",
     "benchmarks/results/mc_rules_quick_after.csv":
