@@ -479,12 +479,11 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     ``WIDTH_TOLERANCE_ROWS``. The energy gap (bulk energies above the prediction) is reported and
     gated at ``max(EQUILIBRATED_GAP, GATE_BONDS * g / bulk_energy)``.
 
-    The gate is wider than the energy between some of the box's candidates of different
-    structure (at ell = 5, nu = 0.4, Gamma = 0.2, 400 particles in 85 x 85: three disks lie 0.5
-    bulk energies above the predicted four; at nu = 0.9, Gamma = 0.5, an elongated aggregate 2.1
-    above the predicted disk), so the run's structure is also compared with every candidate within
-    the gate of the prediction: ``structure_within_gate`` when it is one of theirs (by the same
-    rule as ``structure_match``, which implies it).
+    The gate can be wider than the energy between candidates of different structure (one disk
+    more or fewer than predicted, an elongated aggregate beside a predicted disk), which no
+    energy criterion then tells apart; so the run's structure is also compared with every
+    candidate within the gate of the prediction: ``structure_within_gate`` when it is one of
+    theirs (by the same rule as ``structure_match``, which implies it).
 
     Parameters
     ----------
