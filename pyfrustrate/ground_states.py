@@ -52,7 +52,7 @@ WIDTH_TOLERANCE_ROWS = 1
 #: The fields of ``structure_verdict`` that the workflow stores per run (all but the gap itself).
 VERDICT_FIELDS = ("count", "count_predicted", "kind", "kind_predicted", "width", "width_predicted", "gap_gate",
                   "count_ok", "kind_ok", "width_ok", "gap_ok", "structure_match", "candidates_within_gate",
-                  "structure_within_gate")
+                  "structure_within_gate", "below_prediction")
 _NEIGHBOURS = tuple(tuple(int(x) for x in d) for d in topology.neighbour_sites((0, 0)))  # the six edge neighbours
 
 
@@ -507,7 +507,8 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
         ``width_predicted`` (rows; None unless both are fibres), ``gap`` and ``gap_gate`` (bulk
         energies), ``count_ok``, ``kind_ok``, ``width_ok``, ``gap_ok``, ``structure_match``,
         ``candidates_within_gate`` (how many candidates lie within the gate of the prediction,
-        the prediction included) and ``structure_within_gate``.
+        the prediction included), ``structure_within_gate`` and ``below_prediction`` (the run's
+        energy is below the prediction's: the candidates, a finite family, miss a better state).
 
     Raises
     ------
@@ -540,6 +541,9 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     verdict["candidates_within_gate"] = int(len(within))
     verdict["structure_within_gate"] = any(_same_structure(own, _structure_of(candidates.sites[k], box))
                                            for k in within)
+    # Below every candidate: the run found a state the prediction's finite family misses, and
+    # then the prediction, not the run, is what fails the structure.
+    verdict["below_prediction"] = gap < 0
     return verdict
 
 

@@ -47,6 +47,9 @@ def test_the_prediction_judged_against_itself_matches_with_no_gap():
     g, bulk = 0.1, 0.05
     v = structure_verdict(fibre + (7, 5), BOX, c, g, -g * box_bonds(fibre, BOX), bulk)
     assert v["structure_match"] and v["gap_ok"] and v["gap"] == pytest.approx(0)
+    assert not v["below_prediction"]
+    # The same structure one bond lower than the prediction: the candidates missed it.
+    assert structure_verdict(fibre + (7, 5), BOX, c, g, -g * (box_bonds(fibre, BOX) + 1), bulk)["below_prediction"]
     assert (v["count"], v["kind"]) == (1, "fiber") == (v["count_predicted"], v["kind_predicted"])
     assert v["width"] == pytest.approx(v["width_predicted"])
     assert v["gap_gate"] == pytest.approx(max(EQUILIBRATED_GAP, GATE_BONDS * g / bulk))

@@ -166,6 +166,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
                          structure_within_gate=sum(r["structure_within_gate"] for r in large_runs),
                          structure_within_gate_and_gap_ok=sum(r["structure_within_gate"] and r["gap_ok"]
                                                               for r in large_runs),
+                         below_prediction=sum(r["below_prediction"] for r in large_runs),
                          cpu_seconds_max=max(cpu_seconds) if cpu_seconds else None,
                          cpu_minutes_max=max(cpu_seconds) / 60 if cpu_seconds else None)
     print(f"large runs: {large_summary}")
