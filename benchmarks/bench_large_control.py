@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -110,14 +111,14 @@ def main(argv=None):
     ap.add_argument("--descent-rounds", type=int, default=20)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--candidates", default="results/montecarlo/finite/n{n}_nu{nu:g}.npz")
+    ap.add_argument("--jobs", type=int, default=1, help="points side by side (processes)")
     ap.add_argument("--csv", type=Path, default=DEFAULT_CSV)
     args = ap.parse_args(argv)
     print(f"{machine_line()}\n{source_line()}")
-    rows = []
-    for point in args.points:
-        nu, Gamma = (float(x) for x in point.split(","))
-        rows.append(control(args, nu, Gamma))
-        print(table([tuple(str(v) for v in rows[-1].values())], list(rows[-1])), flush=True)
+    points = [tuple(float(x) for x in point.split(",")) for point in args.points]
+    with ProcessPoolExecutor(max_workers=args.jobs) as pool:
+        rows = list(pool.map(control, [args] * len(points), *zip(*points)))
+    print(table([tuple(str(v) for v in row.values()) for row in rows], list(rows[0])))
     write_csv(args.csv, rows, parameters=dict(ell=args.ell, eps=args.eps, n=args.n, box=args.box, sweeps=args.sweeps,
                                               window=list(args.window), dwell=args.dwell, quench=args.quench,
                                               descent_sweeps=args.descent_sweeps,

@@ -49,6 +49,10 @@ EQUILIBRATED_GAP = 5.0
 GATE_BONDS = 2
 #: A fibre's width agrees with the prediction within this many rows.
 WIDTH_TOLERANCE_ROWS = 1
+#: A run counts as below the prediction (``structure_verdict``'s ``below_prediction``) when its
+#: energy is lower by more than this many bulk energies: far above the differences that relaxing
+#: the same shape to the runs' and the candidates' tolerances leaves.
+BELOW_PREDICTION_MARGIN = 0.1
 #: The fields of ``structure_verdict`` that the workflow stores per run (all but the gap itself).
 VERDICT_FIELDS = ("count", "count_predicted", "kind", "kind_predicted", "width", "width_predicted", "gap_gate",
                   "count_ok", "kind_ok", "width_ok", "gap_ok", "structure_match", "candidates_within_gate",
@@ -508,7 +512,8 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
         energies), ``count_ok``, ``kind_ok``, ``width_ok``, ``gap_ok``, ``structure_match``,
         ``candidates_within_gate`` (how many candidates lie within the gate of the prediction,
         the prediction included), ``structure_within_gate`` and ``below_prediction`` (the run's
-        energy is below the prediction's: the candidates, a finite family, miss a better state).
+        energy is below the prediction's by more than ``BELOW_PREDICTION_MARGIN`` bulk energies:
+        the candidates, a finite family, miss a better state).
 
     Raises
     ------
@@ -543,7 +548,7 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
                                            for k in within)
     # Below every candidate: the run found a state the prediction's finite family misses, and
     # then the prediction, not the run, is what fails the structure.
-    verdict["below_prediction"] = gap < 0
+    verdict["below_prediction"] = gap < -BELOW_PREDICTION_MARGIN
     return verdict
 
 
