@@ -89,6 +89,7 @@ measured_sources = {
     "results/ansatz/line_tension.json": "bash scripts/figures.sh results/ansatz/line_tension.json (rule ansatz_line_tension)",
     "results/montecarlo/validation.json": "bash scripts/figures.sh results/montecarlo/validation.json (rule montecarlo_validation)",
     "benchmarks/results/anneal_defaults.csv": "python benchmarks/bench_anneal_defaults.py",
+    "benchmarks/results/large_control.csv": "python benchmarks/bench_large_control.py --jobs 2",
     "benchmarks/results/mc_goals_own_ldl_dense.csv":
         "python benchmarks/bench_mc_goals.py --only 'b dense' --dense-sweeps 1000 --starts warm parent "
         "--parent-min-particles 16 --baseline BASE --csv benchmarks/results/mc_goals_own_ldl_dense.csv",
