@@ -89,6 +89,7 @@ measured_sources = {
     "results/ansatz/line_tension.json": "bash scripts/figures.sh results/ansatz/line_tension.json (rule ansatz_line_tension)",
     "results/montecarlo/validation.json": "bash scripts/figures.sh results/montecarlo/validation.json (rule montecarlo_validation)",
     "benchmarks/results/anneal_defaults.csv": "python benchmarks/bench_anneal_defaults.py",
+    "benchmarks/results/large_control.csv": "python benchmarks/bench_large_control.py --jobs 2",
     "benchmarks/results/parent_relax.csv":
         "python benchmarks/bench_parent_relax.py --repeats 7 --baseline BASE --csv benchmarks/results/parent_relax.csv",
     "benchmarks/results/mc_goals_speed_dense.csv":

@@ -7,7 +7,10 @@ at fixed Gamma): each marker is one run (one per seed), its final energy above t
 predicted ground state (ground_states.box_candidates: single aggregates, a fibre wrapping the
 box, several aggregates, the gas) in bulk particle energies e_bulk. Filled: the run's structure
 matches the prediction (ground_states.structure_verdict: aggregate count exact, fibre or disk as
-predicted, a fibre's width within one row); hollow: it does not. Green: within the energy gate
+predicted, a fibre's width within one row); half filled: it is the structure of another candidate
+within the energy gate of the prediction (structure_within_gate); hollow: neither. Each panel's
+title counts the matches, in brackets those within the gate's structures, and the runs within
+the gate. Green: within the energy gate
 max(EQUILIBRATED_GAP e_bulk, GATE_BONDS bonds) (the grey band and, where two bonds are worth
 more, the dashed line); orange: above it. Bottom row: the final state of the first seed at every
 distinct point of the scans (a point two scans share is drawn once), each centred on its largest
@@ -95,7 +98,9 @@ def main(scale_path, run_paths, points, outputs, provenance=None):
                 m = SEED_MARKERS[seeds.index(int(scale["seed"][k])) % len(SEED_MARKERS)]
                 color = WITHIN if bool(scale["verdict_gap_ok"][k]) else ABOVE
                 match = bool(scale["verdict_structure_match"][k])
-                ax.plot(x, gap, m, ms=5, mfc=color if match else "w", mec=color, mew=1.1, zorder=3)
+                # Half filled: the structure of another candidate within the gate of the prediction.
+                fill = "full" if match else "left" if bool(scale["verdict_structure_within_gate"][k]) else "none"
+                ax.plot(x, gap, m, ms=5, fillstyle=fill, mfc=color, mfcalt="w", mec=color, mew=1.1, zorder=3)
                 highest = max(highest, gap, gate)
             ground = [str(scale["ground_family"][k]) for k in rows_of(scale, nu, G)][:1]
             if ground:
@@ -109,8 +114,9 @@ def main(scale_path, run_paths, points, outputs, provenance=None):
         ax.set_ylabel(r"$E - E_\mathrm{ground}$ ($e_{\rm bulk}$)" if i == 0 else "")
         in_scan = [k for _, nu, G in (p for p in points if p[0] == scan) for k in rows_of(scale, nu, G)]
         matched = int(scale["verdict_structure_match"][in_scan].astype(bool).sum())
+        within = int(scale["verdict_structure_within_gate"][in_scan].astype(bool).sum())
         gated = int(scale["verdict_gap_ok"][in_scan].astype(bool).sum())
-        ax.set_title(f"{title}, {fixed}:\n{matched} of {len(in_scan)} structures, {gated} within the gate")
+        ax.set_title(f"{title}, {fixed}:\n{matched} ({within}) of {len(in_scan)} structures, {gated} in the gate")
         plotting.panel_label(ax, "abc"[i])
         if i == 0 and len(seeds) > 1:
             for s, seed in enumerate(seeds):

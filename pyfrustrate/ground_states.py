@@ -49,6 +49,14 @@ EQUILIBRATED_GAP = 5.0
 GATE_BONDS = 2
 #: A fibre's width agrees with the prediction within this many rows.
 WIDTH_TOLERANCE_ROWS = 1
+#: A run counts as below the prediction (``structure_verdict``'s ``below_prediction``) when its
+#: energy is lower by more than this many bulk energies: far above the differences that relaxing
+#: the same shape to the runs' and the candidates' tolerances leaves.
+BELOW_PREDICTION_MARGIN = 0.1
+#: The fields of ``structure_verdict`` that the workflow stores per run (all but the gap itself).
+VERDICT_FIELDS = ("count", "count_predicted", "kind", "kind_predicted", "width", "width_predicted", "gap_gate",
+                  "count_ok", "kind_ok", "width_ok", "gap_ok", "structure_match", "candidates_within_gate",
+                  "structure_within_gate", "below_prediction")
 _NEIGHBOURS = tuple(tuple(int(x) for x in d) for d in topology.neighbour_sites((0, 0)))  # the six edge neighbours
 
 
@@ -475,6 +483,12 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     ``WIDTH_TOLERANCE_ROWS``. The energy gap (bulk energies above the prediction) is reported and
     gated at ``max(EQUILIBRATED_GAP, GATE_BONDS * g / bulk_energy)``.
 
+    The gate can be wider than the energy between candidates of different structure (one disk
+    more or fewer than predicted, an elongated aggregate beside a predicted disk), which no
+    energy criterion then tells apart; so the run's structure is also compared with every
+    candidate within the gate of the prediction: ``structure_within_gate`` when it is one of
+    theirs (by the same rule as ``structure_match``, which implies it).
+
     Parameters
     ----------
     sites : array_like of int, shape (n, 2)
@@ -495,7 +509,11 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     dict
         ``count``, ``count_predicted``, ``kind``, ``kind_predicted``, ``width``,
         ``width_predicted`` (rows; None unless both are fibres), ``gap`` and ``gap_gate`` (bulk
-        energies), ``count_ok``, ``kind_ok``, ``width_ok``, ``gap_ok``, ``structure_match``.
+        energies), ``count_ok``, ``kind_ok``, ``width_ok``, ``gap_ok``, ``structure_match``,
+        ``candidates_within_gate`` (how many candidates lie within the gate of the prediction,
+        the prediction included), ``structure_within_gate`` and ``below_prediction`` (the run's
+        energy is below the prediction's by more than ``BELOW_PREDICTION_MARGIN`` bulk energies:
+        the candidates, a finite family, miss a better state).
 
     Raises
     ------
@@ -509,21 +527,42 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     if not bulk_energy > 0:
         raise ValueError(f"bulk_energy must be positive, got {bulk_energy!r}")
     best = int(candidates.best(g))
-    predicted = candidates.sites[best]
-    count, count_predicted = aggregate_count(structure(sites, box)), aggregate_count(structure(predicted, box))
-    kind, kind_predicted = aggregate_kind(sites, box), aggregate_kind(predicted, box)
+    own, predicted = _structure_of(sites, box), _structure_of(candidates.sites[best], box)
+    (count, kind, width), (count_predicted, kind_predicted, width_predicted) = own, predicted
     fibres = kind == kind_predicted == "fiber"
-    width: float | None = None
-    width_predicted: float | None = None
-    width_ok = True  # only fibres are judged by their width
-    if fibres:
-        width, width_predicted = width_in_rows(sites, box), width_in_rows(predicted, box)
-        width_ok = abs(width - width_predicted) <= WIDTH_TOLERANCE_ROWS + 1e-9
+    if not fibres:  # only fibres are judged by their width
+        width = width_predicted = None
     gap = (float(energy) - float(candidates.best_energy(g))) / bulk_energy
     gate = max(EQUILIBRATED_GAP, GATE_BONDS * float(g) / bulk_energy)
     verdict = dict(count=count, count_predicted=count_predicted, kind=str(kind), kind_predicted=str(kind_predicted),
                    width=width, width_predicted=width_predicted, gap=gap, gap_gate=gate,
-                   count_ok=count == count_predicted, kind_ok=kind == kind_predicted, width_ok=width_ok,
-                   gap_ok=gap <= gate)
+                   count_ok=count == count_predicted, kind_ok=kind == kind_predicted,
+                   width_ok=not fibres or _same_width(width, width_predicted), gap_ok=gap <= gate)
     verdict["structure_match"] = verdict["count_ok"] and verdict["kind_ok"] and verdict["width_ok"]
+    # The candidates the gate cannot tell from the prediction (the prediction among them): is the
+    # run's structure one of theirs?
+    excess = (candidates.total(g) - candidates.best_energy(g)) / bulk_energy
+    within = np.flatnonzero(excess <= gate + 1e-12)
+    verdict["candidates_within_gate"] = int(len(within))
+    verdict["structure_within_gate"] = any(_same_structure(own, _structure_of(candidates.sites[k], box))
+                                           for k in within)
+    # Below every candidate: the run found a state the prediction's finite family misses, and
+    # then the prediction, not the run, is what fails the structure.
+    verdict["below_prediction"] = gap < -BELOW_PREDICTION_MARGIN
     return verdict
+
+
+def _structure_of(sites, box) -> tuple[int, str, float | None]:
+    """What ``structure_verdict`` compares: aggregate count, kind of the largest, its width in rows
+    if it is a fibre (else None)."""
+    kind = str(aggregate_kind(sites, box))
+    return (aggregate_count(structure(sites, box)), kind, width_in_rows(sites, box) if kind == "fiber" else None)
+
+
+def _same_width(width, other) -> bool:
+    return abs(width - other) <= WIDTH_TOLERANCE_ROWS + 1e-9
+
+
+def _same_structure(a, b) -> bool:
+    """Same count and kind and, for fibres, widths within ``WIDTH_TOLERANCE_ROWS``."""
+    return a[:2] == b[:2] and (a[1] != "fiber" or _same_width(a[2], b[2]))

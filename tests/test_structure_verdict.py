@@ -47,6 +47,12 @@ def test_the_prediction_judged_against_itself_matches_with_no_gap():
     g, bulk = 0.1, 0.05
     v = structure_verdict(fibre + (7, 5), BOX, c, g, -g * box_bonds(fibre, BOX), bulk)
     assert v["structure_match"] and v["gap_ok"] and v["gap"] == pytest.approx(0)
+    assert not v["below_prediction"]
+    # The same structure one bond (two bulk energies) lower than the prediction: the candidates
+    # missed it; a hundredth of a bulk energy lower is relaxation, not a better state.
+    ground = -g * box_bonds(fibre, BOX)
+    assert structure_verdict(fibre, BOX, c, g, ground - g, bulk)["below_prediction"]
+    assert not structure_verdict(fibre, BOX, c, g, ground - 0.01 * bulk, bulk)["below_prediction"]
     assert (v["count"], v["kind"]) == (1, "fiber") == (v["count_predicted"], v["kind_predicted"])
     assert v["width"] == pytest.approx(v["width_predicted"])
     assert v["gap_gate"] == pytest.approx(max(EQUILIBRATED_GAP, GATE_BONDS * g / bulk))
@@ -85,3 +91,25 @@ def test_bad_input_is_refused_by_name():
         structure_verdict(rows(20, 3), BOX + 1, c, 0.1, 0.0, 0.05)
     with pytest.raises(ValueError, match="bulk_energy"):
         structure_verdict(rows(20, 3), BOX, c, 0.1, 0.0, 0.0)
+
+
+def test_a_structure_within_the_gate_of_the_prediction_is_told_from_one_outside_it():
+    """Two fibres where one is predicted: the strict match fails either way; the run's structure
+    counts as within the gate only when the box's two-fibre candidate lies within the gate of the
+    prediction (its deformation set by hand to 4 or to 6 bulk energies above the fibre's)."""
+    fibre, two = rows(20, 3), np.vstack([rows(10, 3), rows(10, 3, 20, 20)])
+    g, bulk = 0.1, 0.05
+    gate = max(EQUILIBRATED_GAP, GATE_BONDS * g / bulk)
+    run = np.vstack([rows(10, 3, 1, 2), rows(10, 3, 21, 22)])  # two fibres, elsewhere
+    for above, within in ((gate - 1, True), (gate + 1, False)):
+        # The two-fibre candidate's energy above the fibre's: its bonds' difference plus a deformation.
+        deformation = above * bulk - g * (box_bonds(fibre, BOX) - box_bonds(two, BOX))
+        c = BoxCandidates(len(fibre), BOX, np.array(["single", "aggregates2"]), np.array([0.0, deformation]),
+                          np.array([box_bonds(fibre, BOX), box_bonds(two, BOX)]),
+                          (np.mod(fibre, BOX), np.mod(two, BOX)), np.ones(2, bool))
+        v = structure_verdict(run, BOX, c, g, 0.0, bulk)
+        assert not v["structure_match"] and not v["count_ok"]
+        assert v["structure_within_gate"] == within
+        assert v["candidates_within_gate"] == (2 if within else 1)
+        # The prediction itself is always among the candidates within its gate.
+        assert structure_verdict(fibre, BOX, c, g, 0.0, bulk)["structure_within_gate"]

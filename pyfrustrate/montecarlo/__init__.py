@@ -20,7 +20,8 @@ module docstring lists every route between the two).
 """
 from .analysis import (ELONGATION_THRESHOLD, OPEN_NETWORK_BONDS, BoxState, classify_aggregate, clusters,
                        largest_cluster_extent)
-from .annealing import DEFAULT_SWEEPS, SCHEDULES, AnnealResult, AnnealState, anneal, read_checkpoint, window_schedule
+from .annealing import (DEFAULT_SWEEPS, SCHEDULES, AnnealResult, AnnealState, anneal, descend, read_checkpoint,
+                        window_schedule)
 from .drawing import draw_snapshot
 from .driver import ChainState
 from .exchange import ReplicaExchangeResult, ReplicaState, geometric_temperatures, replica_exchange
@@ -28,6 +29,7 @@ from .options import DEFAULTS_MEASURED, MonteCarloOptions, binding
 from . import fixed_size, grand_canonical
 
 __all__ = ["anneal", "AnnealResult", "AnnealState", "read_checkpoint", "SCHEDULES", "DEFAULT_SWEEPS", "window_schedule",
+           "descend",
            "replica_exchange", "ReplicaExchangeResult", "ReplicaState", "geometric_temperatures",
            "MonteCarloOptions", "DEFAULTS_MEASURED", "binding", "ChainState", "BoxState",
            "clusters", "classify_aggregate", "largest_cluster_extent", "draw_snapshot",

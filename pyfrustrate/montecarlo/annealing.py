@@ -70,7 +70,7 @@ from .options import chain_options
 from .trajectory import Trajectory
 
 __all__ = ["anneal", "AnnealResult", "AnnealState", "read_checkpoint", "SCHEDULES", "DEFAULT_SWEEPS",
-           "window_schedule"]
+           "window_schedule", "descend"]
 
 SCHEDULES = ("linear", "geometric")
 _CONTINUOUS_STAGES = 10  # acceptance is reported over tenths of a run without explicit stages
@@ -345,6 +345,74 @@ def window_schedule(window, n: int, *, sweeps: int, T0: float, dwell: float = 0.
                              f"its {len(temps)} stages one")
         stages += [(round(float(t), 12), share + (rest if k == len(temps) - 1 else 0)) for k, t in enumerate(temps)]
     return stages
+
+
+def descend(particle, result: AnnealResult, *, options, sweeps_per_round: int = 20, max_rounds: int = 50,
+            min_gain: float = 0.01) -> tuple[AnnealResult, int, bool]:
+    """Continue a run at ``T = 0`` until it stands in a local minimum of its moves.
+
+    A schedule's last stage at ``T = 0`` is a descent (every move that does not raise the energy
+    is taken) of a fixed length, which may end while moves that lower the energy remain, and then
+    the energy reported is that of a state still on its way down. This continues the chain from
+    ``result`` in rounds of ``sweeps_per_round`` sweeps at ``T = 0`` until a round lowers the
+    energy by less than ``min_gain`` bonds' worth (``min_gain * g``; relaxation to the run's
+    tolerance leaves energies uncertain well below that), or ``max_rounds`` rounds have run.
+
+    Parameters
+    ----------
+    particle : Hexagon, RandomHexagon or Triangle
+        The run's particle.
+    result : AnnealResult
+        The run to continue (its ``state``, ``g``, ``box``, ``n`` and ``seed``).
+    options : MonteCarloOptions, keyword only
+        The moves of the descent (the run's, or others: the chain's state does not depend on them).
+    sweeps_per_round : int, keyword only
+        Sweeps (``n`` attempted moves each) per round, >= 1.
+    max_rounds : int, keyword only
+        Most rounds, >= 1.
+    min_gain : float, keyword only
+        The least energy drop of a round, in units of ``g``, that starts another (>= 0).
+
+    Returns
+    -------
+    (AnnealResult, int, bool)
+        The last round's result (its ``energy``, ``sites``, ``state``), the rounds run, and
+        whether the last one gained less than ``min_gain * g`` (a local minimum) rather than
+        the rounds running out.
+
+    Raises
+    ------
+    ValueError
+        A bad value, named; a ``result`` without a state.
+
+    Examples
+    --------
+    >>> from pyfrustrate import Hexagon
+    >>> from pyfrustrate.montecarlo import MonteCarloOptions, anneal, descend
+    >>> particle = Hexagon.from_continuum(ell=5.0, nu=0.9)
+    >>> options = MonteCarloOptions(method="linear")
+    >>> run = anneal(particle, Gamma=0.5, box=8, n=12, steps=120, seed=1, options=options, progress=False)
+    >>> final, rounds, still = descend(particle, run, options=options, sweeps_per_round=5)
+    >>> bool(final.energy <= run.energy and still)
+    True
+    """
+    if not isinstance(result, AnnealResult) or result.state is None:
+        raise ValueError("result must be an AnnealResult with its state (anneal's return value)")
+    sweeps_per_round = integer("sweeps_per_round", sweeps_per_round, 1)
+    max_rounds = integer("max_rounds", max_rounds, 1)
+    min_gain = non_negative("min_gain", min_gain)
+    current = result
+    for rounds in range(1, max_rounds + 1):
+        start = AnnealState(done=0, chain=current.state.chain, energy_trace=np.zeros(0),
+                            accepted=np.zeros(0, np.int64))
+        following = anneal(particle, g=result.g, box=result.box, n=result.n, seed=result.seed,
+                           schedule=[(0.0, sweeps_per_round * result.n)], options=options, state=start,
+                           progress=False)
+        gain = current.energy - following.energy
+        current = following
+        if gain < min_gain * result.g:
+            return current, rounds, True
+    return current, max_rounds, False
 
 
 def _schedule_description(schedule):

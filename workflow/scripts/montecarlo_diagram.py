@@ -14,7 +14,7 @@ seconds (NaN for runs that did not record them). The same for the scale scans (r
 import numpy as np
 
 from pyfrustrate.ansatz import FiniteAggregates, energy_above_best_single
-from pyfrustrate.ground_states import BoxCandidates, box_bonds, structure, structure_verdict
+from pyfrustrate.ground_states import VERDICT_FIELDS, BoxCandidates, box_bonds, structure, structure_verdict
 from pyfrustrate.io import load_npz, logging_to, save_npz
 from pyfrustrate.provenance import for_job
 from pyfrustrate.montecarlo import ELONGATION_THRESHOLD, classify_aggregate
@@ -60,8 +60,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     (nu, Gamma, seed, kind, size, n, gap, single, gap_ground, ground, found, bond_deficit, bond_energy, ground_bonds,
      exchange_rounds, verdicts, cpu_seconds) = (np.array(c) for c in zip(*rows))
     judged = {key: np.array([np.nan if v[key] is None else v[key] for v in verdicts])
-              for key in ("count", "count_predicted", "kind", "kind_predicted", "width", "width_predicted", "gap_gate",
-                          "count_ok", "kind_ok", "width_ok", "gap_ok", "structure_match")}
+              for key in VERDICT_FIELDS}
     save_npz(snakemake.output[0], provenance=for_job(snakemake), nu=nu, Gamma=Gamma, seed=seed, kind=kind.astype(str), size=size, n=n,  # noqa: F821
              gap=gap, single_kind=single.astype(str), gap_ground=gap_ground, ground_family=ground.astype(str),
              structure=found.astype(str), bond_deficit=bond_deficit, bond_energy=bond_energy,

@@ -19,15 +19,18 @@ the anneal's own energy and bonds are kept as anneal_energy and anneal_bonds.
 The large box's runs (rule montecarlo_large_run) get a `collective` param: collective isometry
 moves (shift_moves, rotation_moves, reflection_moves, isometry_link) and, in place of the linear
 schedule, pyfrustrate.montecarlo.window_schedule from g through the reshaping window (`window`, in
-units of g; `dwell` and `quench` the fractions of the sweeps there and at T = 0). The other kinds'
-rule has no such param."""
+units of g; `dwell` and `quench` the fractions of the sweeps there and at T = 0), and after the
+schedule a descent at T = 0 in rounds of `descent_sweeps` sweeps until a round gains less than a
+hundredth of a bond (pyfrustrate.montecarlo.descend; at most `descent_rounds` rounds), so that the
+run's energy is that of a local minimum of its moves, not of a state still on its way down. The
+other kinds' rule has no such param."""
 import os
 import time
 
 import numpy as np
 
 from pyfrustrate import anneal, continuum
-from pyfrustrate.montecarlo import MonteCarloOptions, geometric_temperatures, replica_exchange, window_schedule
+from pyfrustrate.montecarlo import MonteCarloOptions, descend, geometric_temperatures, replica_exchange, window_schedule
 from pyfrustrate.io import logging_to, save_npz, sigterm_raises
 from pyfrustrate.provenance import for_job
 from pyfrustrate.particles import particle_class
@@ -65,7 +68,15 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
     r = anneal(particle, checkpoint=checkpoint, **schedule, **chain)
     if r.resumed:
         print(f"resumed from checkpoint {checkpoint}")
-    final, exchange, exchange_checkpoint = r, {}, None
+    final, exchange, exchange_checkpoint, descent = r, {}, None, {}
+    if collective:
+        final, descent_rounds, still = descend(particle, r, options=options, sweeps_per_round=collective["descent_sweeps"],
+                                       max_rounds=collective["descent_rounds"])
+        print(f"descent at T = 0 after the schedule: energy {r.energy:.6g} -> {final.energy:.6g}, bonds {r.bonds} -> "
+              f"{final.bonds}, {descent_rounds} rounds of {collective['descent_sweeps']} sweeps, "
+              + ("a local minimum" if still else "still descending when the rounds ran out"))
+        descent = dict(schedule_energy=r.energy, schedule_bonds=r.bonds, descent_rounds_run=descent_rounds,
+                       descent_converged=still)
     rounds = p.exchange["rounds"]
     # Gamma_measured comes back from the g it was mapped to, a few ulps off the grid's value: a run
     # at exactly Gamma_min must take the stage.
@@ -99,7 +110,7 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
              cluster_sizes=np.array(sizes), cluster_moves=cluster_moves,
              cluster_link=cluster_link, bonded_moves=bonded_moves, surface_moves=surface_moves, kind=p.kind, tiling=p.tiling,
              convention=p.convention, Gamma_measured=Gamma_measured, cpu_seconds=cpu_seconds, elapsed=r.elapsed,
-             **{f"collective_{key}": value for key, value in (collective or {}).items()}, **exchange)
+             **{f"collective_{key}": value for key, value in (collective or {}).items()}, **descent, **exchange)
     for path in (checkpoint, exchange_checkpoint):  # the result is saved: nothing left to resume
         if path is not None:
             os.remove(path)

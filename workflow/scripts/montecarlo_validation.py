@@ -12,6 +12,7 @@ import json
 
 import numpy as np
 
+from pyfrustrate.ground_states import VERDICT_FIELDS
 from pyfrustrate.io import load_npz, logging_to, save_json
 from pyfrustrate.montecarlo import fixed_size, grand_canonical
 from pyfrustrate.provenance import for_job
@@ -153,9 +154,7 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     large_runs = []
     for k in range(len(scale["seed"])):
         at = (round(float(scale["nu"][k]), 9), round(float(scale["Gamma"][k]), 9))
-        fields = {key: scale[f"verdict_{key}"][k].item() for key in
-                  ("count", "count_predicted", "kind", "kind_predicted", "width", "width_predicted", "gap_gate",
-                   "count_ok", "kind_ok", "width_ok", "gap_ok", "structure_match")}
+        fields = {key: scale[f"verdict_{key}"][k].item() for key in VERDICT_FIELDS}
         large_runs.append(dict(scans=[s for s, nu, G in p.large_points if (round(nu, 9), round(G, 9)) == at],
                                nu=at[0], Gamma=at[1], seed=int(scale["seed"][k]), n=int(scale["n"][k]),
                                gap=float(scale["gap_ground"][k]), cpu_seconds=float(scale["cpu_seconds"][k]),
@@ -164,6 +163,10 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     large_summary = dict(runs=len(large_runs), structure_match=sum(r["structure_match"] for r in large_runs),
                          gap_ok=sum(r["gap_ok"] for r in large_runs),
                          structure_match_and_gap_ok=sum(r["structure_match"] and r["gap_ok"] for r in large_runs),
+                         structure_within_gate=sum(r["structure_within_gate"] for r in large_runs),
+                         structure_within_gate_and_gap_ok=sum(r["structure_within_gate"] and r["gap_ok"]
+                                                              for r in large_runs),
+                         below_prediction=sum(r["below_prediction"] for r in large_runs),
                          cpu_seconds_max=max(cpu_seconds) if cpu_seconds else None,
                          cpu_minutes_max=max(cpu_seconds) / 60 if cpu_seconds else None)
     print(f"large runs: {large_summary}")
