@@ -401,15 +401,15 @@ def descend(particle, result: AnnealResult, *, options, sweeps_per_round: int = 
     sweeps_per_round = integer("sweeps_per_round", sweeps_per_round, 1)
     max_rounds = integer("max_rounds", max_rounds, 1)
     min_gain = non_negative("min_gain", min_gain)
-    current = result
+    current, chain = result, result.state.chain
     for rounds in range(1, max_rounds + 1):
-        start = AnnealState(done=0, chain=current.state.chain, energy_trace=np.zeros(0),
-                            accepted=np.zeros(0, np.int64))
+        start = AnnealState(done=0, chain=chain, energy_trace=np.zeros(0), accepted=np.zeros(0, np.int64))
         following = anneal(particle, g=result.g, box=result.box, n=result.n, seed=result.seed,
                            schedule=[(0.0, sweeps_per_round * result.n)], options=options, state=start,
                            progress=False)
+        assert following.state is not None  # anneal always returns the state it ended in
         gain = current.energy - following.energy
-        current = following
+        current, chain = following, following.state.chain
         if gain < min_gain * result.g:
             return current, rounds, True
     return current, max_rounds, False
