@@ -16,6 +16,7 @@ stars: W* read where the scan crosses its own threshold. (e) That crossing: <E>/
 import json
 
 import numpy as np
+from matplotlib.lines import Line2D
 from matplotlib.ticker import MaxNLocator
 
 from pyfrustrate import plotting
@@ -59,8 +60,6 @@ def draw_two_sided(ax, checks, colors):
 def draw_key(ax, colors, seeds):
     """The key of (a)-(c), in the figure's sixth slot, so that no legend covers data: a colour per
     Gamma, the line styles of the ansatz and its optima, a marker per seed (in every panel)."""
-    from matplotlib.lines import Line2D
-
     ax.axis("off")
     handles = [Line2D([], [], color=c, lw=1, label=rf"ansatz, $\Gamma$ = {G:g}") for G, c in colors.items()]
     handles += [Line2D([], [], color="0.3", lw=0.8, ls=":", label="ansatz optimum"),
@@ -121,8 +120,6 @@ def grand_panels(axes, validation):
     ax_width.set_title(rf"grand canonical, $\nu$ = {samples[0]['nu']:g}, $\Gamma$ = {samples[0]['Gamma']:g}")
     ax_gap.set_title(r"threshold: $\langle E\rangle/\langle n\rangle = \mu$")
     ax_width.yaxis.set_major_locator(MaxNLocator(integer=True))  # widths are whole rows
-    from matplotlib.lines import Line2D
-
     star = Line2D([], [], ls="none", marker="*", ms=8, color="0.3",
                   label=r"$W^*$: $\langle E\rangle/\langle n\rangle = \mu$")
     handles, _ = ax_width.get_legend_handles_labels()

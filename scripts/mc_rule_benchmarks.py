@@ -136,10 +136,7 @@ def table(benchmark_dir: Path, out: Path, commit: str, profile: str, rules: list
           planned: dict[str, int] | None = None) -> None:
     rows = []
     for rule in rules:
-        records = []
-        for tsv in sorted((benchmark_dir / rule).glob("**/*.tsv")):
-            with open(tsv, newline="") as fh:
-                records += list(csv.DictReader(fh, delimiter="\t"))
+        records = [record for job in _job_records(benchmark_dir, rule).values() for record in job]
         if not records:
             continue
         cpu = [float(r["cpu_time"]) for r in records]
@@ -167,14 +164,20 @@ def table(benchmark_dir: Path, out: Path, commit: str, profile: str, rules: list
                     f"(scripts/mc_rule_benchmarks.sh){sampled}; {platform.machine()}, {os.cpu_count()} cores\n", rows)
 
 
-def _cpu_by_job(benchmark_dir: Path, rule: str) -> dict[str, float]:
-    """CPU seconds of each job of ``rule`` under ``benchmark_dir``, by benchmark file name."""
-    cpu = {}
+def _job_records(benchmark_dir: Path, rule: str) -> dict[str, list[dict]]:
+    """The rows of each job's benchmark file of ``rule`` under ``benchmark_dir``, by file name
+    (relative to the rule's directory), in sorted order."""
+    jobs = {}
     for tsv in sorted((benchmark_dir / rule).glob("**/*.tsv")):
         with open(tsv, newline="") as fh:
-            cpu[str(tsv.relative_to(benchmark_dir / rule))] = sum(float(r["cpu_time"])
-                                                                 for r in csv.DictReader(fh, delimiter="\t"))
-    return cpu
+            jobs[str(tsv.relative_to(benchmark_dir / rule))] = list(csv.DictReader(fh, delimiter="\t"))
+    return jobs
+
+
+def _cpu_by_job(benchmark_dir: Path, rule: str) -> dict[str, float]:
+    """CPU seconds of each job of ``rule`` under ``benchmark_dir``, by benchmark file name."""
+    return {job: sum(float(r["cpu_time"]) for r in records)
+            for job, records in _job_records(benchmark_dir, rule).items()}
 
 
 def compare(before_dir: Path, after_dir: Path, out: Path, before: str, after: str, rules: list[str]) -> None:
