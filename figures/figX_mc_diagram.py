@@ -17,7 +17,7 @@ from pyfrustrate.ground_states import EQUILIBRATED_GAP
 from pyfrustrate.io import load_npz, logging_to, save_json
 from pyfrustrate.provenance import for_job
 
-MARKERS = {"disk": "o", "fiber": "s", "bulk": "D", "bulk_with_holes": "^", "gas": "x"}
+MARKERS = {"disk": "o", "fused_disks": "h", "fiber": "s", "bulk": "D", "bulk_with_holes": "^", "gas": "x"}
 
 
 def draw_elongated_bands(ax, mc):
@@ -32,6 +32,12 @@ def draw_elongated_bands(ax, mc):
                     solid_capstyle="butt", zorder=5)
 
 
+def merged_where_compact(mc):
+    """Runs whose largest aggregate is disks fused by necks, or is called a fibre, where the best
+    single aggregate of as many particles is compact: pieces merged, not a fibre phase."""
+    return (mc["kind"] == "fused_disks") | ((mc["kind"] == "fiber") & (mc["single_kind"] != "fiber"))
+
+
 def hollow_markers_explained(mc, n):
     """Caption lines: what the runs that ended above the criterion got wrong, read from their final
     clusters: the structure (one aggregate, several, ...) or, within the right structure, the shape."""
@@ -39,13 +45,13 @@ def hollow_markers_explained(mc, n):
     if not stuck.any():
         return ["Every run ended within the criterion."]
     right = stuck & (mc["structure"] == mc["ground_family"])
-    unrounded = right & (mc["kind"] == "fiber") & (mc["single_kind"] != "fiber")
+    unrounded = right & merged_where_compact(mc)
     rest = right & ~unrounded
     gaps = mc["gap_ground"][rest]
     other = int((stuck & ~right).sum())
     lines = [
         f"Hollow markers ({int(stuck.sum())}): {int(right.sum())} end in their ground state's structure but not its shape: "
-        f"{int(unrounded.sum())} elongated where the best aggregate of {n} is compact",
+        f"{int(unrounded.sum())} disks fused by necks or elongated where the best aggregate of {n} is compact",
         "(pieces merged, not yet rounded)"
         + (f", {int(rest.sum())} of the best aggregate's kind but {gaps.min():.1f}-{gaps.max():.1f} above (outline not yet "
            "relaxed)" if rest.any() else "")
@@ -79,16 +85,17 @@ def structure_words(family) -> str:
 
 
 def fused_runs_explained(mc, n):
-    """Caption lines on the runs within the criterion that the classifier calls fibres where the best
-    single aggregate of ``n`` is compact: their energy against the best single aggregate (``gap``)
+    """Caption lines on the runs within the criterion that end in fused disks, or that the classifier
+    calls fibres, where the best single aggregate of ``n`` is compact: their energy against the best single aggregate (``gap``)
     and against the box's predicted ground state (``gap_ground``), which says whether the prediction
     or the marker is at fault."""
-    fused = (mc["gap_ground"] <= EQUILIBRATED_GAP) & (mc["kind"] == "fiber") & (mc["single_kind"] != "fiber")
+    fused = (mc["gap_ground"] <= EQUILIBRATED_GAP) & merged_where_compact(mc)
     lines = []
     for k in np.flatnonzero(fused):
         below = mc["gap"][k] < 0
+        called = "ends in disks fused by necks" if mc["kind"][k] == "fused_disks" else "is called a fibre"
         lines.append(
-            f"The run within the criterion at ν = {mc['nu'][k]:g}, Γ = {mc['Gamma'][k]:g} is called a fibre where the best "
+            f"The run within the criterion at ν = {mc['nu'][k]:g}, Γ = {mc['Gamma'][k]:g} {called} where the best "
             f"single aggregate of {n} is compact (asterisk): it ends {abs(mc['gap'][k]):.1f} bulk particle energies "
             f"{'below' if below else 'above'} that aggregate and {mc['gap_ground'][k]:.1f} above the box's predicted "
             f"ground state, {structure_words(mc['ground_family'][k])}"
@@ -129,9 +136,9 @@ def main(mc_path, diagram_path, continuum_path, outputs, provenance=None, summar
     for mesh in ax.collections:
         mesh.set_alpha(0.35)
     draw_elongated_bands(ax, mc)
-    # A run the classifier calls a fibre (elongated) where the best single aggregate of as many
-    # particles is compact: two or more disks fused into one cluster read as a fibre (the
-    # classifier sees only the gyration anisotropy; tests/test_figures.py).
+    # A run the classifier calls a fibre (elongated, without necks) where the best single aggregate
+    # of as many particles is compact: disks fused by wide contacts still read as a fibre
+    # (montecarlo.analysis.compact_lobes finds only necks of one or two rows; tests/test_figures.py).
     elongated_not_fibre = (mc["kind"] == "fiber") & (mc["single_kind"] != "fiber")
     for nu, G, kind, size, gap, flag in zip(mc["nu"], mc["Gamma"], mc["kind"], mc["size"], mc["gap_ground"],
                                             elongated_not_fibre):
@@ -150,7 +157,7 @@ def main(mc_path, diagram_path, continuum_path, outputs, provenance=None, summar
                           label=f"best single aggregate\nof {n} particles is elongated"))
     if elongated_not_fibre.any():
         handles.append(Line2D([], [], ls="", marker="$*$", color="k",
-                              label=f"elongated, but the best single\naggregate of {n} is compact\n(e.g. fused disks)"))
+                              label=f"elongated, but the best single\naggregate of {n} is compact"))
     fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(11.6 / width, 8.3 / height),
                title="Monte Carlo runs:\nlargest final aggregate", alignment="left", labelspacing=0.8)
     plotting.save(fig, outputs, provenance)

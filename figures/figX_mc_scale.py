@@ -37,20 +37,24 @@ def rows_of(scale, nu, Gamma):
             if abs(scale["nu"][k] - nu) < 1e-9 and abs(scale["Gamma"][k] - Gamma) < 1e-9]
 
 
-def kind_name(kind):
-    return {"fiber": "fibre"}.get(str(kind), str(kind))
+def kind_words(kind, count):
+    """``count`` aggregates of a kind (``ground_states.aggregate_kind``) in words: "2 disks"."""
+    if str(kind) == "fused_disks":
+        return "fused disks" if count == 1 else f"{count} clusters of fused disks"
+    one, many = {"fiber": ("fibre", "fibres"), "disk": ("disk", "disks")}.get(str(kind), (str(kind), str(kind)))
+    return f"{count} {one if count == 1 else many}"
 
 
 def verdict_text(scale, k):
     """A run's structure, the prediction's in brackets where it differs: e.g. "1 fibre, 9 rows (8)",
-    "2 disks (1)", "1 fibre (4 disks)"."""
+    "2 disks (1)", "fused disks (4 disks)": one cluster, where four separate disks are predicted."""
     count, kind = int(scale["verdict_count"][k]), str(scale["verdict_kind"][k])
-    text = f"{count} {kind_name(kind)}{'s' if count != 1 else ''}"
+    text = kind_words(kind, count)
     predicted, count_predicted = [], int(scale["verdict_count_predicted"][k])
     if count_predicted != count:
         predicted.append(str(count_predicted))
     if kind != str(scale["verdict_kind_predicted"][k]):
-        predicted.append(kind_name(scale["verdict_kind_predicted"][k]) + ("s" if count_predicted > 1 else ""))
+        predicted = [kind_words(scale["verdict_kind_predicted"][k], count_predicted)]
     width = float(scale["verdict_width"][k])
     if np.isfinite(width):
         text += f", {width:.0f} rows ({float(scale['verdict_width_predicted'][k]):.0f})"

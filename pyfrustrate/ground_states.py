@@ -446,8 +446,9 @@ def width_in_rows(sites, box) -> float:
 
 def aggregate_kind(sites, box) -> str:
     """Kind of the largest cluster of a box configuration: ``"gas"`` (fewer than 3 particles),
-    ``"bulk"`` (wraps the box both ways), ``"fiber"`` (wraps one way, or finite and elongated:
-    ``montecarlo.analysis.elongated``) or ``"disk"``: ``montecarlo.classify_aggregate`` without
+    ``"bulk"`` (wraps the box both ways), ``"fused_disks"`` (finite, compact disks joined by
+    necks: ``montecarlo.analysis.compact_lobes``), ``"fiber"`` (wraps one way, or finite and
+    elongated: ``montecarlo.analysis.elongated``) or ``"disk"``: ``montecarlo.classify_aggregate`` without
     its open-network reading, so that a thin fibre (one or two rows, under two thirds of the bulk's
     bonds per particle) stays a fibre.
 

@@ -19,9 +19,12 @@ from .provenance import describe  # noqa: E402
 # Fig. 3 colour code: black bulk with holes, red disk, blue fibre, purple bulk.
 PHASE_COLORS = {"bulk_with_holes": "#1a1a1a", "disk": "#d3002d", "fiber": "#007e94", "bulk": "#7b3294",
                 "single": "#9e9e9e", "gas": "#b0b0b0"}
+# A Monte Carlo aggregate of disks fused by necks (montecarlo.analysis.compact_lobes) is drawn in
+# the disk colour: it is the disk phase's, merged; a marker of its own tells it apart.
+PHASE_COLORS["fused_disks"] = PHASE_COLORS["disk"]
 # How a phase (the code's name) is written in legends.
 PHASE_LABELS = {"bulk_with_holes": "bulk with holes", "disk": "disk", "fiber": "fibre", "bulk": "bulk",
-                "gas": "single particles"}
+                "gas": "single particles", "fused_disks": "fused disks"}
 YELLOW, RED_CORNER, BLUE_SPRING = "#e6b800", "#d3002d", "#3b78c2"
 # Colour of each corner slot (even slots red, odd yellow) and of each of the nine distances of
 # a random particle (random_particles.DISTANCE_PAIRS: yellow sides, red sides, hexagon sides).

@@ -247,26 +247,50 @@ def test_built_figure(png):
     assert problems == []
 
 
-def test_classifier_calls_two_fused_disks_a_fibre():
-    """figX_mc_diagram colours each run by montecarlo.classify_aggregate, which calls a finite
-    aggregate a fibre when its gyration anisotropy exceeds ELONGATION_THRESHOLD. Two compact
-    disks fused along a side pass that threshold (two touching circles of radius r: principal
-    variances 5 r^2/4 and r^2/4, anisotropy sqrt(5) = 2.24), so a run that ends in two merged,
-    not yet rounded disks is drawn as a fibre: the marker reads the shape, not the phase."""
+def _two_disks(radius, gap_rows=0, box=60):
+    """Two hexagonal disks of ``radius`` side by side along a1, touching (``gap_rows`` 0) at the
+    ends of their middle rows, placed in the middle of ``box``."""
     from pyfrustrate import topology
-    from pyfrustrate.montecarlo import ELONGATION_THRESHOLD, classify_aggregate
 
-    box, radius = 40, 3
     disk = topology.hexagon_sites(radius)
     width = np.ptp(disk[:, 0]) + 1
-    fused = np.unique(np.vstack([disk + 10, disk + (10 + width, 10)]), axis=0)
-    assert classify_aggregate(disk + 10, box)[0] == "disk"
-    kind, size = classify_aggregate(fused, box)
-    assert size == 2 * len(disk)
-    xy = topology.site_positions(fused)
-    small, large = np.linalg.eigvalsh(np.cov(xy.T))
-    assert np.sqrt(large / small) > ELONGATION_THRESHOLD
-    assert kind == "fiber"
+    return np.unique(np.vstack([disk + 20, disk + (20 + width + gap_rows, 20)]), axis=0)
+
+
+def test_classifier_tells_disks_fused_by_a_neck_from_a_fibre():
+    """Two compact disks fused at a neck are elongated enough to pass the gyration threshold (two
+    touching circles of radius r: principal variances 5 r^2/4 and r^2/4, anisotropy sqrt(5) =
+    2.24), so the shape alone would call them a fibre; eroding the surface splits them into two
+    compact lobes, so they are fused disks. Straight fibres of every width keep at most one lobe."""
+    from pyfrustrate import topology
+    from pyfrustrate.montecarlo import ELONGATION_THRESHOLD, classify_aggregate
+    from pyfrustrate.montecarlo.analysis import compact_lobes
+
+    box = 80
+    for radius in (2, 3, 5):
+        fused = _two_disks(radius)
+        xy = topology.site_positions(fused)
+        small, large = np.linalg.eigvalsh(np.cov(xy.T))
+        assert np.sqrt(large / small) > ELONGATION_THRESHOLD
+        assert classify_aggregate(fused, box) == ("fused_disks", len(fused))
+        lobes = compact_lobes(fused)
+        assert len(lobes) == 2 and len(lobes[0]) == len(lobes[1]) == len(topology.hexagon_sites(radius - 1))
+        assert classify_aggregate(topology.hexagon_sites(radius) + 20, box)[0] == "disk"
+    # Three disks touching corner to corner in a triangle: compact as a whole, three lobes.
+    disk = topology.hexagon_sites(3)
+    ring = np.unique(np.vstack([disk + 20, disk + (27, 20), disk + (20, 27)]), axis=0)
+    assert len(compact_lobes(ring)) == 3
+    assert classify_aggregate(ring, box)[0] == "fused_disks"
+    for rows in (3, 4, 5, 8):
+        fibre = np.array([(i - r // 2 + 10, r + 10) for r in range(rows) for i in range(40)])
+        assert classify_aggregate(fibre, box, open_networks=False)[0] == "fiber", rows
+        assert len(compact_lobes(fibre)) == (rows >= 5)
+        # A notch two rows deep leaves a fibre of three or four rows in strips too thin for a lobe.
+        notched = np.array([(i - r // 2 + 10, r + 10) for r in range(rows) for i in range(40)
+                            if not (i in (19, 20) and r >= rows - 2)])
+        if rows <= 4:
+            assert compact_lobes(notched) == []
+            assert classify_aggregate(notched, box, open_networks=False)[0] == "fiber", rows
 
 
 def test_mc_diagram_summary_explains_exactly_the_fused_runs_within_the_criterion():

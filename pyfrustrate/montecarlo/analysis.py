@@ -14,7 +14,7 @@ from .. import _kernel
 from .._checks import integer
 from ..topology import neighbour_sites, site_columns, site_positions, tiling_facts
 
-__all__ = ["BoxState", "clusters", "classify_aggregate", "largest_cluster_extent", "ELONGATION_THRESHOLD",
+__all__ = ["BoxState", "clusters", "classify_aggregate", "compact_lobes", "largest_cluster_extent", "ELONGATION_THRESHOLD",
            "OPEN_NETWORK_BONDS"]
 
 #: Gyration anisotropy sqrt(l1 / l2) above which a finite aggregate counts as elongated.
@@ -129,7 +129,10 @@ def classify_aggregate(sites, box, tiling="hexagon", *, open_networks=True) -> t
     -------
     kind : str
         ``'bulk'`` (wraps the box both ways), ``'fiber'`` (wraps one way, or finite and
-        elongated: gyration anisotropy above ``ELONGATION_THRESHOLD``), ``'bulk_with_holes'``
+        elongated: gyration anisotropy above ``ELONGATION_THRESHOLD``), ``'fused_disks'``
+        (finite, compact disks joined by necks, elongated or not: ``compact_lobes``; checked
+        first),
+        ``'bulk_with_holes'``
         (with ``open_networks``: fewer than ``OPEN_NETWORK_BONDS`` times the bulk's bonds per
         particle), ``'disk'`` (compact), or ``'gas'`` (largest cluster of fewer than 3 particles).
     size : int
@@ -164,7 +167,68 @@ def classify_aggregate(sites, box, tiling="hexagon", *, open_networks=True) -> t
         bonds = sum(v in members for c in coords.tolist() for v in neighbour_sites(c, tiling)) / 2
         if bonds / size < OPEN_NETWORK_BONDS * tiling_facts(tiling)["bulk_bonds_per_particle"]:
             return "bulk_with_holes", size
+    if len(compact_lobes(coords, tiling)) >= 2:
+        return "fused_disks", size
     return ("fiber" if elongated(coords, tiling) else "disk"), size
+
+
+def _interior(members: set, tiling: str) -> set:
+    """The members all of whose edge neighbours are members (one erosion of the surface)."""
+    return {c for c in members if all(v in members for v in neighbour_sites(c, tiling))}
+
+
+def compact_lobes(coords, tiling="hexagon") -> list[set]:
+    """The compact lobes of a finite cluster: the connected pieces left when its surface is
+    eroded (every particle with an empty edge neighbour removed) that still hold a particle
+    whose edge neighbours all lie in the piece, i.e. pieces at least three rows thick somewhere.
+
+    A compact disk or a straight fibre of any width keeps one piece (or none, if it is at most
+    two rows thick); compact disks joined by necks of one or two rows fall apart into one
+    lobe each. So a cluster with two or more lobes is disks fused by necks, neither one disk nor a
+    fibre, however elongated (``classify_aggregate``). A fibre of three or four rows with a notch splits into
+    strips too thin to hold a lobe, and stays a fibre.
+
+    Parameters
+    ----------
+    coords : array_like, shape (k, 2) or (k, 3), int
+        The cluster's unwrapped sites (``clusters``; a finite cluster, rank 0).
+    tiling : {"hexagon", "triangle"}, optional
+        The tiling.
+
+    Returns
+    -------
+    list of set of tuple
+        The lobes' sites (of the eroded cluster), largest first.
+
+    Examples
+    --------
+    Two hexagonal disks of radius 2 touching at one pair of particles, and one disk:
+
+    >>> import numpy as np
+    >>> from pyfrustrate import topology
+    >>> from pyfrustrate.montecarlo.analysis import compact_lobes
+    >>> disk = topology.hexagon_sites(2)
+    >>> [len(lobe) for lobe in compact_lobes(np.vstack([disk, disk + (5, 0)]))]
+    [7, 7]
+    >>> [len(lobe) for lobe in compact_lobes(disk)]
+    [7]
+    """
+    members = {tuple(c) for c in np.asarray(coords, np.int64).tolist()}
+    core = _interior(members, tiling)
+    lobes, seen = [], set()
+    for start in core:
+        if start in seen:
+            continue
+        piece, frontier = {start}, [start]
+        while frontier:
+            for v in neighbour_sites(frontier.pop(), tiling):
+                if v in core and v not in piece:
+                    piece.add(v)
+                    frontier.append(v)
+        seen |= piece
+        if _interior(piece, tiling):
+            lobes.append(piece)
+    return sorted(lobes, key=len, reverse=True)
 
 
 def elongated(coords, tiling="hexagon") -> bool:
