@@ -86,21 +86,23 @@ def structure_words(family) -> str:
 
 def fused_runs_explained(mc, n):
     """Caption lines on the runs within the criterion that end in fused disks, or that the classifier
-    calls fibres, where the best single aggregate of ``n`` is compact: their energy against the best single aggregate (``gap``)
-    and against the box's predicted ground state (``gap_ground``), which says whether the prediction
-    or the marker is at fault."""
+    calls fibres, where the best single aggregate of ``n`` is compact: their energy against the best
+    single aggregate (``gap``) and against the box's predicted ground state (``gap_ground``), which
+    says whether the prediction or the marker is at fault."""
     fused = (mc["gap_ground"] <= EQUILIBRATED_GAP) & merged_where_compact(mc)
     lines = []
     for k in np.flatnonzero(fused):
         below = mc["gap"][k] < 0
-        called = "ends in disks fused by necks" if mc["kind"][k] == "fused_disks" else "is called a fibre"
+        named = mc["kind"][k] == "fused_disks"
+        called, shape = (("ends in disks fused by necks", "the fused disks are a shape")
+                         if named else ("is called a fibre", "its shape is one"))
         lines.append(
             f"The run within the criterion at ν = {mc['nu'][k]:g}, Γ = {mc['Gamma'][k]:g} {called} where the best "
-            f"single aggregate of {n} is compact (asterisk): it ends {abs(mc['gap'][k]):.1f} bulk particle energies "
-            f"{'below' if below else 'above'} that aggregate and {mc['gap_ground'][k]:.1f} above the box's predicted "
-            f"ground state, {structure_words(mc['ground_family'][k])}"
-            + (": below the best compact aggregate, so its shape is one that family lacks (such as disks fused by "
-               "necks) and the marker reads that shape, not a wrong prediction." if below else "."))
+            f"single aggregate of {n} is compact{'' if named else ' (asterisk)'}: it ends {abs(mc['gap'][k]):.1f} bulk "
+            f"particle energies {'below' if below else 'above'} that aggregate and {mc['gap_ground'][k]:.1f} above the "
+            f"box's predicted ground state, {structure_words(mc['ground_family'][k])}"
+            + (f": below the best compact aggregate, so {shape} that family lacks and the marker reads that shape, "
+               "not a wrong prediction." if below else "."))
     return lines
 
 

@@ -9,8 +9,7 @@ box, several aggregates, the gas) in bulk particle energies e_bulk. Filled: the 
 matches the prediction (ground_states.structure_verdict: aggregate count exact, fibre or disk as
 predicted, a fibre's width within one row); half filled: it is the structure of another candidate
 within the energy gate of the prediction (structure_within_gate); hollow: neither. Each panel's
-title counts the matches, in brackets those within the gate's structures, and the runs within
-the gate. Green: within the energy gate
+title counts the runs whose structure matches and those within the gate. Green: within the energy gate
 max(EQUILIBRATED_GAP e_bulk, GATE_BONDS bonds) (the grey band and, where two bonds are worth
 more, the dashed line); orange: above it. Bottom row: the final state of the first seed at every
 distinct point of the scans (a point two scans share is drawn once), each centred on its largest
@@ -118,9 +117,9 @@ def main(scale_path, run_paths, points, outputs, provenance=None):
         ax.set_ylabel(r"$E - E_\mathrm{ground}$ ($e_{\rm bulk}$)" if i == 0 else "")
         in_scan = [k for _, nu, G in (p for p in points if p[0] == scan) for k in rows_of(scale, nu, G)]
         matched = int(scale["verdict_structure_match"][in_scan].astype(bool).sum())
-        within = int(scale["verdict_structure_within_gate"][in_scan].astype(bool).sum())
         gated = int(scale["verdict_gap_ok"][in_scan].astype(bool).sum())
-        ax.set_title(f"{title}, {fixed}:\n{matched} ({within}) of {len(in_scan)} structures, {gated} in the gate")
+        runs = len(in_scan)
+        ax.set_title(f"{title}, {fixed}\n{matched} of {runs} in structure, {gated} in the gate")
         plotting.panel_label(ax, "abc"[i])
         if i == 0 and len(seeds) > 1:
             for s, seed in enumerate(seeds):

@@ -305,14 +305,15 @@ def test_mc_diagram_summary_explains_exactly_the_fused_runs_within_the_criterion
     from pyfrustrate.ground_states import EQUILIBRATED_GAP
 
     within, above = 0.5 * EQUILIBRATED_GAP, 2.0 * EQUILIBRATED_GAP
-    mc = {"nu": np.array([0.2, 0.5, 0.8, 0.9]), "Gamma": np.array([0.2, 0.3, 0.4, 0.5]),
-          "kind": np.array(["fiber", "fiber", "fiber", "disk"]), "single_kind": np.array(["disk"] * 4),
-          "gap": np.array([-3.0, 1.0, -2.0, -1.0]), "gap_ground": np.array([within, within, above, within]),
-          "ground_family": np.array(["aggregates2", "single", "single", "single"])}
+    mc = {"nu": np.array([0.2, 0.5, 0.8, 0.9, 0.3]), "Gamma": np.array([0.2, 0.3, 0.4, 0.5, 0.6]),
+          "kind": np.array(["fiber", "fiber", "fiber", "disk", "fused_disks"]), "single_kind": np.array(["disk"] * 5),
+          "gap": np.array([-3.0, 1.0, -2.0, -1.0, -0.5]), "gap_ground": np.array([within, within, above, within, within]),
+          "ground_family": np.array(["aggregates2", "single", "single", "single", "single"])}
     lines = figure.fused_runs_explained(mc, 200)
-    assert len(lines) == 2
+    assert len(lines) == 3
     assert "ν = 0.2, Γ = 0.2" in lines[0] and "2 separate aggregates" in lines[0] and "reads that shape" in lines[0]
     assert "ν = 0.5, Γ = 0.3" in lines[1] and "one aggregate" in lines[1] and "reads that shape" not in lines[1]
+    assert "ν = 0.3, Γ = 0.6" in lines[2] and "fused by necks" in lines[2] and "asterisk" not in lines[2]
 
 
 def test_colour_ramps_start_at_a_visible_tint():
