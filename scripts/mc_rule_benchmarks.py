@@ -22,11 +22,14 @@ Two commands, used by ``scripts/mc_rule_benchmarks.sh``:
     ``--planned`` (a sample of the jobs was run): the profile's job count per rule and the
     estimated total, the sample's mean times that count.
 
-``compare BEFORE_DIR AFTER_DIR OUT_CSV --before C --after C RULE...``
+``compare BEFORE_DIR AFTER_DIR OUT_CSV --before C --after C [--exclude GLOB]... RULE...``
     The jobs both benchmark directories hold (same rule, same benchmark file name, i.e. the same
     output), paired: per rule and over all, the job count and the CPU seconds of both sides and
     their ratio (after / before). Two commits' profiles can differ in their jobs (a scan
     redrawn, a kind of run moved to another rule); only the jobs they share compare the engine.
+    ``--exclude`` drops the jobs whose benchmark file name matches a glob (``large_*``): jobs
+    of the same name whose work changed between the commits (a longer schedule), which would
+    compare two protocols, not one engine; the table's comment line names them.
 
 Standard library only: it runs with any Python, on any commit's results.
 """
@@ -34,6 +37,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import fnmatch
 import os
 import platform
 import re
@@ -180,11 +184,12 @@ def _cpu_by_job(benchmark_dir: Path, rule: str) -> dict[str, float]:
             for job, records in _job_records(benchmark_dir, rule).items()}
 
 
-def compare(before_dir: Path, after_dir: Path, out: Path, before: str, after: str, rules: list[str]) -> None:
+def compare(before_dir: Path, after_dir: Path, out: Path, before: str, after: str, rules: list[str],
+            exclude: tuple[str, ...] = ()) -> None:
     rows, both_before, both_after = [], 0.0, 0.0
     for rule in rules:
         old, new = _cpu_by_job(before_dir, rule), _cpu_by_job(after_dir, rule)
-        shared = sorted(set(old) & set(new))
+        shared = sorted(j for j in set(old) & set(new) if not any(fnmatch.fnmatch(j, g) for g in exclude))
         if not shared:
             continue
         cpu_before, cpu_after = sum(old[j] for j in shared), sum(new[j] for j in shared)
@@ -196,8 +201,9 @@ def compare(before_dir: Path, after_dir: Path, out: Path, before: str, after: st
     rows.append(dict(rule="all shared jobs", jobs=sum(r["jobs"] for r in rows), cpu_s_before=f"{both_before:.0f}",
                      cpu_s_after=f"{both_after:.0f}", ratio=f"{both_after / both_before:.2f}", before=before,
                      after=after))
-    _write_csv(out, f"# The jobs both commits ran (same rule and output), CPU seconds paired: {before} before, "
-                    f"{after} after (scripts/mc_rule_benchmarks.py compare); {platform.machine()}, "
+    excluded = f", jobs matching {' '.join(exclude)} excluded" if exclude else ""
+    _write_csv(out, f"# The jobs both commits ran (same rule and output{excluded}), CPU seconds paired: {before} "
+                    f"before, {after} after (scripts/mc_rule_benchmarks.py compare); {platform.machine()}, "
                     f"{os.cpu_count()} cores\n", rows)
 
 
@@ -236,6 +242,7 @@ def main(argv=None):
     c.add_argument("out", type=Path)
     c.add_argument("--before", required=True)
     c.add_argument("--after", required=True)
+    c.add_argument("--exclude", action="append", default=[], metavar="GLOB", help="repeat for several")
     c.add_argument("rules", nargs="+")
     s = sub.add_parser("sample")
     s.add_argument("dry_run", type=Path)
@@ -245,7 +252,7 @@ def main(argv=None):
     if args.command == "patch":
         patch(args.rules_dir, args.other_dir, args.rules)
     elif args.command == "compare":
-        compare(args.before_dir, args.after_dir, args.out, args.before, args.after, args.rules)
+        compare(args.before_dir, args.after_dir, args.out, args.before, args.after, args.rules, tuple(args.exclude))
     elif args.command == "sample":
         chosen, counts = sample(args.dry_run, args.every, args.rules)
         print("\n".join(chosen))

@@ -108,3 +108,23 @@ def test_compare_pairs_only_the_jobs_both_commits_ran(tmp_path):
     assert rows["all shared jobs"]["jobs"] == "2" and rows["all shared jobs"]["ratio"] == f"{13 / 42:.2f}"
     with pytest.raises(SystemExit, match="no job"):
         bench.compare(before, after, out, "a", "b", ["montecarlo_validation_sample"])
+
+
+def test_compare_leaves_out_the_excluded_jobs_and_says_so(tmp_path):
+    """A job whose work changed between the commits (same output name, longer schedule) is left out
+    by a glob on its benchmark file name, and the table's comment names the glob."""
+    before, after = tmp_path / "before", tmp_path / "after"
+    for name, old, new in (("sparse_a", 40.0, 30.0), ("large_a", 100.0, 900.0), ("large_b", 100.0, 800.0)):
+        _benchmark_file(before / "montecarlo_run", name, old, old + 1, 100.0)
+        _benchmark_file(after / "montecarlo_run", name, new, new + 1, 100.0)
+    out = tmp_path / "compare.csv"
+    bench.compare(before, after, out, "old", "new", ["montecarlo_run"], exclude=("large_*",))
+    lines = out.read_text().splitlines()
+    assert "large_*" in lines[0]
+    rows = {row["rule"]: row for row in csv.DictReader(lines[1:])}
+    assert rows["montecarlo_run"]["jobs"] == "1" and rows["montecarlo_run"]["ratio"] == "0.75"
+    bench.main(["compare", str(before), str(after), str(out), "--before", "old", "--after", "new",
+                "--exclude", "large_*", "montecarlo_run"])
+    assert "large_*" in out.read_text().splitlines()[0]
+    with pytest.raises(SystemExit, match="no job"):
+        bench.compare(before, after, out, "old", "new", ["montecarlo_run"], exclude=("large_*", "sparse_*"))
