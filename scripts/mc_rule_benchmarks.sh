@@ -16,6 +16,7 @@
 # Monte Carlo is ~12 h of CPU per commit, a sample of 1 in 8 about 1.5 h. Two commits' profiles can
 # differ in their jobs; `python3 scripts/mc_rule_benchmarks.py compare BEFORE/results/benchmarks
 # AFTER/results/benchmarks OUT.csv --before C --after C RULE...` pairs the jobs both ran.
+# MC_TARGETS="OUTPUT..." runs exactly those jobs afresh (with MC_BENCH_WORK; scripts/mc_rule_pairs.sh).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 COMMIT="${1:?usage: mc_rule_benchmarks.sh COMMIT [quick|paper] [OUT.csv]}"
@@ -64,7 +65,18 @@ cd "$WORK/src"
 bash scripts/setup.sh
 echo "[mc_rule_benchmarks] $SHORT, $PROFILE profile: the Monte Carlo jobs"
 PLANNED=()
-if [ -n "${MC_SAMPLE:-}" ]; then
+if [ -n "${MC_TARGETS:-}" ]; then
+  # Exactly these jobs, afresh: their outputs, logs, benchmark files and checkpoints go first (a
+  # finished checkpoint would return at once). scripts/mc_rule_pairs.sh runs two commits' jobs
+  # alternately this way, so that each pair shares the machine's load.
+  read -r -a TARGETS <<< "$MC_TARGETS"
+  for target in "${TARGETS[@]}"; do
+    stem="${target%.npz}"
+    name="${stem##*/}"
+    rm -f "$target" "${stem/\/runs\//\/checkpoints\/}"_*.npz results/benchmarks/*/"$name".tsv
+  done
+  "$PYFRUSTRATE_VENV/bin/snakemake" "${TARGETS[@]}" --cores "${CORES:-1}" --rerun-incomplete "${CONFIG[@]}"
+elif [ -n "${MC_SAMPLE:-}" ]; then
   # --forceall: every job of the rules, done or not, so that a resumed measurement samples (and
   # counts) the same jobs as the first sitting.
   "$PYFRUSTRATE_VENV/bin/snakemake" -n --forceall "${CONFIG[@]}" --until "${RULES[@]}" > "$WORK/dry_run.txt"
