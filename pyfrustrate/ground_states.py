@@ -627,6 +627,29 @@ def aggregate_count(found: str) -> int:
     return 1
 
 
+def family_structure(family: str) -> str:
+    """The ``structure`` a candidate of ``family`` reads as from its clusters: ``single`` for
+    ``fused{m}`` (its parts are one cluster), the family itself otherwise.
+
+    Parameters
+    ----------
+    family : str
+        A ``BoxCandidates.family``.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from pyfrustrate.ground_states import family_structure
+    >>> family_structure("fused4"), family_structure("aggregates4")
+    ('single', 'aggregates4')
+    """
+    family = str(family)
+    return "single" if family.startswith("fused") else family
+
+
 def width_in_rows(sites, box) -> float:
     """Width of the largest cluster of a box configuration, in lattice rows: its extent across its
     long axis (the smaller principal axis of its site centres, unwrapped) over the row spacing
