@@ -269,3 +269,20 @@ def test_at_weak_line_tension_disks_joined_by_a_neck_beat_separate_disks(weak_te
     assert (verdict["count"], verdict["count_predicted"], verdict["kind_predicted"]) == (2, 1, "fused_disks")
     assert not verdict["structure_match"]
     assert structure_verdict(sites, box, candidates, g, candidates.best_energy(g), e_bulk)["structure_match"]
+
+
+def test_a_ring_of_necks_strains_and_a_chain_does_not(weak_tension):
+    # Three disks pairwise at necks close a ring: the necks pin the disks' corners to a triangle of
+    # fixed sides, which the frustrated disks (wider than the lattice says) cannot meet unstrained;
+    # in a chain each neck is free to turn. Against the three disks relaxed apart.
+    from pyfrustrate.ground_states import fused_copies
+    particle, g = weak_tension
+    disk = topology.hexagon_sites(5)
+    apart = 3 * relax(particle, topology.cluster(disk), method="newton", tol=1e-8).energy
+    strain = {}
+    for arrangement, necks in (("compact", 3), ("chain", 2)):
+        copies = fused_copies(disk, 3, arrangement=arrangement)
+        assert sum(bonds_between_by_distance(copies[i], copies[j]) for i in range(3) for j in range(i)) == necks
+        whole = relax(particle, topology.cluster(np.concatenate(copies)), method="newton", tol=1e-8)
+        strain[arrangement] = (whole.energy - apart) / necks
+    assert strain["chain"] < 0.1 * g < g < strain["compact"]
