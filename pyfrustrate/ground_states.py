@@ -22,13 +22,14 @@ fit without touching their periodic images):
 ``fused{m}``
     the parts of ``aggregates{m}`` not apart but touching at necks, relaxed as one cluster
     (``fused_copies``): neighbouring copies shifted along a lattice direction by the smallest shift
-    that neither overlaps nor leaves them apart, on the ``m`` points of that super-lattice nearest
-    the first copy (2 in a pair, 3 in a triangle, 4 in a rhombus, 7 in a hexagon). A neck adds a
-    bond or two at little elastic cost, since it is compliant: 400 particles at ell = 5, nu = 0.4,
-    Gamma = 0.2 seeded in four separate disks ended below them, in one cluster of disks joined by
-    necks (``benchmarks/bench_large_control.py``). Only the part shapes that are the best
-    ``n / m``-particle aggregate at some binding energy (``ever_best``) are fused, each relaxed as a
-    whole;
+    that neither overlaps nor leaves them apart (``neck_shift``), either on the ``m`` points of
+    that super-lattice nearest the first copy (2 in a pair, 3 in a triangle, 4 in a rhombus, 7 in a
+    hexagon) or in a chain along the direction of the narrowest neck. A neck of one bond adds that
+    bond at almost no elastic cost, since it is compliant; a closed ring of necks, or a contact
+    along a flat side, strains the parts (tests/test_ground_states.py). A box at ell = 5, nu = 0.4,
+    Gamma = 0.2 seeded in separate disks ended below them, in one cluster of disks joined by necks
+    (``benchmarks/bench_large_control.py``). Only the part shapes that are the best
+    ``n / m``-particle aggregate at some binding energy (``ever_best``) are fused;
 ``gas``
     every particle alone (energy 0), when the box can hold ``n`` particles none of which touch.
 
