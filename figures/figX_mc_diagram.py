@@ -8,12 +8,12 @@ runs are compared with the finite-size prediction too: a band marks where the be
 aggregate of the same n is elongated (ansatz.finite_aggregates), and a hollow marker a run that
 ended more than EQUILIBRATED_GAP bulk particle energies above the box's predicted ground state
 (the best of ground_states.box_candidates: single aggregates, a fibre wrapping the box, several
-aggregates, the gas), i.e. not equilibrated; the gaps are in the log of montecarlo_diagram."""
+aggregates apart or joined by necks, the gas), i.e. not equilibrated; the gaps are in the log of montecarlo_diagram."""
 import numpy as np
 from matplotlib.lines import Line2D
 
 from pyfrustrate import plotting, topology
-from pyfrustrate.ground_states import EQUILIBRATED_GAP
+from pyfrustrate.ground_states import EQUILIBRATED_GAP, family_structure
 from pyfrustrate.io import load_npz, logging_to, save_json
 from pyfrustrate.provenance import for_job
 
@@ -32,6 +32,12 @@ def draw_elongated_bands(ax, mc):
                     solid_capstyle="butt", zorder=5)
 
 
+def in_ground_structure(mc):
+    """Runs whose structure (from their clusters alone) is their box's predicted ground state's:
+    aggregates fused by necks are one cluster (``ground_states.family_structure``)."""
+    return mc["structure"] == np.array([family_structure(f) for f in mc["ground_family"]])
+
+
 def merged_where_compact(mc):
     """Runs whose largest aggregate is disks fused by necks, or is called a fibre, where the best
     single aggregate of as many particles is compact: pieces merged, not a fibre phase."""
@@ -44,8 +50,9 @@ def hollow_markers_explained(mc, n):
     stuck = mc["gap_ground"] > EQUILIBRATED_GAP
     if not stuck.any():
         return ["Every run ended within the criterion."]
-    right = stuck & (mc["structure"] == mc["ground_family"])
-    unrounded = right & merged_where_compact(mc)
+    right = stuck & in_ground_structure(mc)
+    # Disks fused by necks are not "pieces merged" where the prediction itself fuses them.
+    unrounded = right & merged_where_compact(mc) & ~np.char.startswith(mc["ground_family"].astype(str), "fused")
     rest = right & ~unrounded
     gaps = mc["gap_ground"][rest]
     other = int((stuck & ~right).sum())
@@ -77,10 +84,13 @@ def hollow_markers_explained(mc, n):
 
 
 def structure_words(family) -> str:
-    """A box structure (``ground_states.FAMILIES``, ``aggregatesK`` with its count) in words."""
+    """A box structure (``ground_states.FAMILIES``, ``aggregatesK`` and ``fusedK`` with their count)
+    in words."""
     family = str(family)
     if family.startswith("aggregates"):
         return f"{family.removeprefix('aggregates') or 'several'} separate aggregates"
+    if family.startswith("fused"):
+        return f"{family.removeprefix('fused') or 'several'} aggregates joined by necks"
     return {"single": "one aggregate", "wrapping_fiber": "a fibre wrapping the box", "gas": "the gas"}.get(family, family)
 
 
@@ -121,7 +131,7 @@ def summary(mc, n) -> str:
     """The runs in numbers, for the caption: how many ended within the criterion and in their
     ground state's structure, the protocol, and what the runs above the criterion got wrong."""
     within = int((mc["gap_ground"] <= EQUILIBRATED_GAP).sum())
-    same = int((mc["structure"] == mc["ground_family"]).sum())
+    same = int(in_ground_structure(mc).sum())
     counts = (f"{within} of {len(mc['gap_ground'])} runs end within {EQUILIBRATED_GAP:g} bulk particle energies of "
               f"their box's predicted ground state; {same} in its structure. {protocol(mc, n)}.")
     return " ".join([counts, *fused_runs_explained(mc, n), *hollow_markers_explained(mc, n)])
@@ -170,7 +180,7 @@ def main(mc_path, diagram_path, continuum_path, outputs, provenance=None, summar
     if summary_path is not None:
         save_json(summary_path, {"summary": text, "runs": int(len(mc["gap_ground"])),
                                  "within": int((mc["gap_ground"] <= EQUILIBRATED_GAP).sum()),
-                                 "same_structure": int((mc["structure"] == mc["ground_family"]).sum())},
+                                 "same_structure": int(in_ground_structure(mc).sum())},
                   provenance=provenance)
 
 

@@ -5,7 +5,7 @@ item 3).
 Top row, one panel per scan (the fibre scan at fixed nu, the disk scan at fixed nu, the nu scan
 at fixed Gamma): each marker is one run (one per seed), its final energy above the box's
 predicted ground state (ground_states.box_candidates: single aggregates, a fibre wrapping the
-box, several aggregates, the gas) in bulk particle energies e_bulk. Filled: the run's structure
+box, several aggregates apart or joined by necks, the gas) in bulk particle energies e_bulk. Filled: the run's structure
 matches the prediction (ground_states.structure_verdict: aggregate count exact, fibre or disk as
 predicted, a fibre's width within one row); half filled: it is the structure of another candidate
 within the energy gate of the prediction (structure_within_gate); hollow: neither. Each panel's
@@ -42,6 +42,16 @@ def kind_words(kind, count):
         return "fused disks" if count == 1 else f"{count} clusters of fused disks"
     one, many = {"fiber": ("fibre", "fibres"), "disk": ("disk", "disks")}.get(str(kind), (str(kind), str(kind)))
     return f"{count} {one if count == 1 else many}"
+
+
+def ground_label(scale, k):
+    """The predicted structure of run ``k``'s box in words, written under its point: aggregates
+    joined by necks that the classifier reads as fused disks are "4 fused disks"."""
+    family = str(scale["ground_family"][k])
+    label = plotting.structure_label(family)
+    if family.startswith("fused") and str(scale["verdict_kind_predicted"][k]) == "fused_disks":
+        label = label.replace("aggregates", "disks")
+    return label
 
 
 def verdict_text(scale, k):
@@ -105,9 +115,9 @@ def main(scale_path, run_paths, points, outputs, provenance=None):
                 fill = "full" if match else "left" if bool(scale["verdict_structure_within_gate"][k]) else "none"
                 ax.plot(x, gap, m, ms=5, fillstyle=fill, mfc=color, mfcalt="w", mec=color, mew=1.1, zorder=3)
                 highest = max(highest, gap, gate)
-            ground = [str(scale["ground_family"][k]) for k in rows_of(scale, nu, G)][:1]
+            ground = [ground_label(scale, k) for k in rows_of(scale, nu, G)][:1]
             if ground:
-                ax.annotate(plotting.structure_label(ground[0]).replace(" ", "\n", 1), (x, 0),
+                ax.annotate(ground[0].replace(" ", "\n", 1), (x, 0),
                             xytext=(0, -4), textcoords="offset points", ha="center", va="top", fontsize=6,
                             color="0.35")
         margin = 0.2 * (max(xs) - min(xs) + 0.1)  # the outer structure labels inside the axes

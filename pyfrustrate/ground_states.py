@@ -19,6 +19,17 @@ fit without touching their periodic images):
     aggregate is small and a large box holds many of them (800 particles at ell = 5, nu = 0.4, Gamma
     = 0.2: seven aggregates; the best of at most four lay 2-12 bulk energies above where annealing
     runs ended);
+``fused{m}``
+    the parts of ``aggregates{m}`` not apart but touching at necks, relaxed as one cluster
+    (``fused_copies``): neighbouring copies shifted along a lattice direction by the smallest shift
+    that neither overlaps nor leaves them apart (``neck_shift``), either on the ``m`` points of
+    that super-lattice nearest the first copy (2 in a pair, 3 in a triangle, 4 in a rhombus, 7 in a
+    hexagon) or in a chain along the direction of the narrowest neck. A neck of one bond adds that
+    bond at almost no elastic cost, since it is compliant; a closed ring of necks, or a contact
+    along a flat side, strains the parts (tests/test_ground_states.py). A box at ell = 5, nu = 0.4,
+    Gamma = 0.2 seeded in separate disks ended below them, in one cluster of disks joined by necks
+    (``benchmarks/bench_large_control.py``). Only the part shapes that are the best
+    ``n / m``-particle aggregate at some binding energy (``ever_best``) are fused;
 ``gas``
     every particle alone (energy 0), when the box can hold ``n`` particles none of which touch.
 
@@ -36,7 +47,7 @@ from . import _checks, ansatz, topology
 from ._checks import integer
 from .relaxation import relax
 
-FAMILIES = ("single", "wrapping_fiber", "aggregates", "gas")
+FAMILIES = ("single", "wrapping_fiber", "aggregates", "fused", "gas")
 #: Final energy above the box's predicted ground state, in bulk particle energies, beyond which a
 #: Monte Carlo run counts as not equilibrated (the criterion of 5). A relative criterion would be
 #: too loose: 18.9 bulk energies is 1 % of the energy of 400 particles, yet another structure.
@@ -58,6 +69,9 @@ VERDICT_FIELDS = ("count", "count_predicted", "kind", "kind_predicted", "width",
                   "count_ok", "kind_ok", "width_ok", "gap_ok", "structure_match", "candidates_within_gate",
                   "structure_within_gate", "below_prediction")
 _NEIGHBOURS = tuple(tuple(int(x) for x in d) for d in topology.neighbour_sites((0, 0)))  # the six edge neighbours
+#: The lattice directions along which ``fused_copies`` places neighbouring copies: a1, a2 (the
+#: super-lattice's basis) and a2 - a1.
+LATTICE_DIRECTIONS = ((1, 0), (0, 1), (-1, 1))
 
 
 @dataclass(frozen=True)
@@ -72,7 +86,8 @@ class BoxCandidates(ansatz.EnergiesLinearInG):
     n, box : int
         Particles and box side (lattice steps).
     family : ndarray of str
-        ``single``, ``wrapping_fiber``, ``aggregates{m}`` or ``gas`` (module docstring).
+        ``single``, ``wrapping_fiber``, ``aggregates{m}``, ``fused{m}`` or ``gas`` (module
+        docstring).
     deformation : ndarray
         Relaxed deformation energy of each candidate (whole box).
     bonds : ndarray of int
@@ -102,7 +117,7 @@ class BoxCandidates(ansatz.EnergiesLinearInG):
         Returns
         -------
         ndarray of str
-            ``FAMILIES``, ``aggregates`` with its count.
+            ``FAMILIES``, ``aggregates`` and ``fused`` with their count.
         """
         return self.family[self.best(g)]
 
@@ -190,6 +205,191 @@ def _gas_sites(n, box):
     return None
 
 
+def ever_best(candidates: ansatz.EnergiesLinearInG) -> list[int]:
+    """The candidates that are the lowest at some binding energy ``g >= 0``: the lower envelope of
+    the lines ``deformation - g * bonds``, in order of increasing ``g`` (ties: the most bonds).
+
+    Parameters
+    ----------
+    candidates : EnergiesLinearInG
+        E.g. ``ansatz.finite_aggregates``.
+
+    Returns
+    -------
+    list of int
+        Indices into the candidates.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from pyfrustrate.ground_states import ever_best
+    >>> class Lines:  # best at g = 0: index 1; then 0 from g = 1 (1 - 4 g = 0 - 3 g); 2 never
+    ...     deformation, bonds = np.array([1.0, 0.0, 5.0]), np.array([4, 3, 4])
+    >>> ever_best(Lines())
+    [1, 0]
+    """
+    deformation, bonds = np.asarray(candidates.deformation, float), np.asarray(candidates.bonds, int)
+    order = np.lexsort((-bonds, deformation))  # lowest at g = 0, the most bonds among equals
+    chosen, g = [int(order[0])], 0.0
+    while True:
+        now = chosen[-1]
+        more = np.flatnonzero(bonds > bonds[now])  # only a line with more bonds can cross below it
+        if not len(more):
+            return chosen
+        crossing = (deformation[more] - deformation[now]) / (bonds[more] - bonds[now])
+        crossing = np.maximum(crossing, g)
+        first = more[np.lexsort((-bonds[more], crossing))[0]]
+        chosen.append(int(first))
+        g = float(max(crossing.min(), g))
+
+
+def contact_bonds(a, b) -> int:
+    """Bound pairs of sides between two sets of sites (unwrapped, edge neighbours).
+
+    Parameters
+    ----------
+    a, b : array_like of int, shape (k, 2)
+        Sites of two aggregates.
+
+    Returns
+    -------
+    int
+    """
+    other = {tuple(s) for s in np.asarray(b, int).tolist()}
+    return sum((i + x, j + y) in other for i, j in np.asarray(a, int).tolist() for x, y in _NEIGHBOURS)
+
+
+def neck_shift(shape, direction) -> np.ndarray | None:
+    """The smallest shift of an aggregate along a lattice ``direction`` at which its copy does not
+    overlap it and touches it (at least one bond): where two copies meet at a neck.
+
+    Parameters
+    ----------
+    shape : array_like of int, shape (k, 2)
+        The aggregate's sites.
+    direction : sequence of int
+        A lattice direction, e.g. one of ``LATTICE_DIRECTIONS``.
+
+    Returns
+    -------
+    ndarray of int, shape (2,), or None
+        The shift, or None when the first shift without overlap leaves a gap (a shape with a notch
+        along ``direction``).
+    """
+    shape, direction = np.asarray(shape, int), np.asarray(direction, int)
+    own = {tuple(s) for s in shape.tolist()}
+    reach = int(np.ptp(shape, axis=0).sum()) + 2  # beyond this shift no copy can overlap
+    for step in range(1, reach + 1):
+        copy = shape + step * direction
+        if any(tuple(s) in own for s in copy.tolist()):
+            continue
+        return step * direction if contact_bonds(shape, copy) else None
+    return None
+
+
+#: How ``fused_copies`` arranges the copies: on the neck super-lattice as compactly as possible, or
+#: in a straight chain along one neck direction (a tree of necks: no closed loop).
+ARRANGEMENTS = ("compact", "chain")
+
+
+def fused_copies(part, m: int, last=None, arrangement: str = "compact") -> list[np.ndarray] | None:
+    """``m`` copies of an aggregate joined by necks: the ``fused{m}`` family's placements.
+
+    ``"compact"``: copies on the super-lattice spanned by the neck shifts along a1 and a2
+    (``neck_shift``; for a shape with the hexagon's symmetry, copies shifted by their difference
+    meet at the neck along a2 - a1 too), at the ``m`` points of it nearest to the first copy (ties
+    by angle from a1): a pair, a triangle, a rhombus, ..., a hexagon with its centre at 7.
+    ``"chain"``: copies in a row along the lattice direction whose neck holds the fewest bonds
+    (ties: the first of ``LATTICE_DIRECTIONS``), each touching only its neighbours. The two differ
+    in their loops: a closed ring of necks (three copies in a triangle) ties the copies' corners to
+    a triangle of fixed sides, which strains them, where a chain's necks, each free to bend, cost
+    almost nothing.
+
+    ``last`` replaces the last copy (the ``aggregates{m}`` family's remainder): it is centred on
+    its point, then moved outwards along the lattice direction nearest to that point's until it
+    overlaps no copy; it must touch one.
+
+    Parameters
+    ----------
+    part : array_like of int, shape (k, 2)
+        The aggregate's sites.
+    m : int
+        Copies, ``>= 1``.
+    last : array_like of int, shape (k', 2), optional
+        Another aggregate in place of the last copy.
+    arrangement : {'compact', 'chain'}, optional
+        ``ARRANGEMENTS``.
+
+    Returns
+    -------
+    list of ndarray, or None
+        Each copy's sites (unwrapped lattice coordinates), or None when a neck cannot be made (see
+        ``neck_shift``), copies overlap, or ``last`` touches none.
+
+    Raises
+    ------
+    ValueError
+        For a bad ``m`` or ``arrangement``.
+
+    Examples
+    --------
+    Three hexagonal disks of radius 2 meet pairwise at necks of one bond, or in a row:
+
+    >>> from pyfrustrate import topology
+    >>> from pyfrustrate.ground_states import contact_bonds, fused_copies
+    >>> a, b, c = fused_copies(topology.hexagon_sites(2), 3)
+    >>> contact_bonds(a, b), contact_bonds(b, c), contact_bonds(a, c)
+    (1, 1, 1)
+    >>> a, b, c = fused_copies(topology.hexagon_sites(2), 3, arrangement="chain")
+    >>> contact_bonds(a, b), contact_bonds(b, c), contact_bonds(a, c)
+    (1, 1, 0)
+    """
+    m = integer("m", m, 1)
+    if arrangement not in ARRANGEMENTS:
+        raise ValueError(f"arrangement must be one of {ARRANGEMENTS}, got {arrangement!r}")
+    part = np.asarray(part, int)
+    shifts = [neck_shift(part, d) for d in LATTICE_DIRECTIONS]
+    if arrangement == "chain":
+        usable = [t for t in shifts if t is not None]
+        if not usable:
+            return None
+        step = min(usable, key=lambda t: contact_bonds(part, part + t))  # the first of the narrowest necks
+        points = np.arange(m)[:, None] * step
+    else:
+        if shifts[0] is None or shifts[1] is None:
+            return None
+        # Super-lattice points by distance from the first copy, then angle from a1 (counter-clockwise).
+        span = range(-m, m + 1)
+        grid = np.array([(i, j) for i in span for j in span]) @ np.array(shifts[:2])
+        xy = topology.site_positions(grid)
+        angle = np.mod(np.arctan2(xy[:, 1], xy[:, 0]), 2 * np.pi)
+        points = grid[np.lexsort((np.round(angle, 9), np.round(np.hypot(*xy.T), 9)))[:m]]
+    copies = [part + p for p in points]
+    if last is not None and m >= 2:
+        copies[-1] = _placed_outwards(np.asarray(last, int), part, points[-1], copies[:-1])
+        if copies[-1] is None:
+            return None
+    sites = np.concatenate(copies)
+    if len({tuple(s) for s in sites.tolist()}) < len(sites):
+        return None
+    return copies
+
+
+def _placed_outwards(shape, part, point, others) -> np.ndarray | None:
+    """``shape`` centred where ``part + point`` is, moved outwards (along the lattice direction
+    nearest to ``point``'s) to the first position overlapping none of ``others``; None unless it
+    then touches one of them."""
+    centre = np.rint(part.mean(axis=0) - shape.mean(axis=0)).astype(int) + point
+    directions = np.array(LATTICE_DIRECTIONS + tuple((-a, -b) for a, b in LATTICE_DIRECTIONS))
+    outwards = directions[np.argmax(topology.site_positions(directions) @ topology.site_positions([point])[0])]
+    taken = {tuple(s) for o in others for s in o.tolist()}
+    for step in range(int(np.ptp(shape, axis=0).sum()) + 2):
+        placed = shape + centre + step * outwards
+        if not any(tuple(s) in taken for s in placed.tolist()):
+            return placed if any(contact_bonds(placed, o) for o in others) else None
+    return None
+
+
 def aggregate_counts(n: int, max_aggregates: int | None = None) -> list[int]:
     """The numbers ``m`` of separate aggregates ``box_candidates`` tries for ``n`` particles.
 
@@ -243,7 +443,7 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
     box : int
         Box side, lattice steps, ``>= 2``.
     max_aggregates : int, optional
-        Limit the separate aggregates to counts 2 .. max_aggregates (default:
+        Limit the separate and the fused aggregates to counts 2 .. max_aggregates (default:
         ``aggregate_counts(n)``).
     method : {'auto', 'newton', 'lbfgs', 'linear'}, optional
         As for ``relax``.
@@ -281,6 +481,7 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
         raise ValueError(f"n must be smaller than the box's {box * box} sites, got {n}")
     counts = aggregate_counts(n, max_aggregates)  # checks max_aggregates before any relaxation
     rows = []  # (family, deformation, bonds, sites, converged)
+    kwargs: dict[str, Any] = {"x0": "linear"} if method == "lbfgs" else {}
 
     single = ansatz.finite_aggregates(particle, n, method=method, tol=tol)
     for k, sites in enumerate(single.sites):
@@ -294,7 +495,6 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
         if full + (rest > 0) < box:  # a slab that fills the box would wrap both ways
             fibre = topology.Topology("fiber", sites, "fiber", np.array([(box, 0), (0, 0)]), curved=False,
                                       label=f"wrapping fibre of {n} in {box}")
-            kwargs: dict[str, Any] = {"x0": "linear"} if method == "lbfgs" else {}
             r = relax(particle, fibre, method=method, tol=tol, **kwargs)
             rows.append(("wrapping_fiber", r.energy, r.n_bonds, sites, r.converged))
 
@@ -315,6 +515,22 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
             rows.append((f"aggregates{m}", (m - 1) * parts[q].deformation[k] + parts[last].deformation[k],
                          (m - 1) * parts[q].bonds[k] + parts[last].bonds[k], sites,
                          parts[q].converged[k] and parts[last].converged[k]))
+        # The same parts joined by necks, relaxed as one cluster: the necks' strain is the whole's,
+        # not a sum over the parts.
+        placed = set()
+        for k in ever_best(parts[q]):
+            for arrangement in ARRANGEMENTS:
+                copies = fused_copies(parts[q].sites[k], m, last=parts[last].sites[k], arrangement=arrangement)
+                if copies is None:
+                    continue
+                sites = np.concatenate(copies)
+                key = frozenset(map(tuple, sites.tolist()))  # a chain of two is the compact pair
+                if key in placed or _touches_itself(sites, box):
+                    continue
+                placed.add(key)
+                r = relax(particle, topology.cluster(sites, label=f"{m} fused aggregates of {q}, {arrangement}"),
+                          method=method, tol=tol, **kwargs)
+                rows.append((f"fused{m}", r.energy, r.n_bonds, _in_box(sites, box), r.converged))
 
     gas = _gas_sites(n, box)
     if gas is not None:
@@ -387,7 +603,8 @@ def structure(sites, box, major: float = 0.1) -> str:
 
 def aggregate_count(found: str) -> int:
     """Aggregates of a ``structure`` (or family) name: 0 for ``gas``, ``m`` for ``aggregates{m}``,
-    1 otherwise (``single``, ``wrapping_fiber``, ``bulk``).
+    1 otherwise (``single``, ``wrapping_fiber``, ``bulk``, and ``fused{m}``: its ``m`` parts are
+    one cluster, whose ``structure`` is ``single``).
 
     Parameters
     ----------
@@ -401,14 +618,37 @@ def aggregate_count(found: str) -> int:
     Examples
     --------
     >>> from pyfrustrate.ground_states import aggregate_count
-    >>> aggregate_count("aggregates4"), aggregate_count("single"), aggregate_count("gas")
-    (4, 1, 0)
+    >>> aggregate_count("aggregates4"), aggregate_count("fused4"), aggregate_count("single"), aggregate_count("gas")
+    (4, 1, 1, 0)
     """
     if found == "gas":
         return 0
     if found.startswith("aggregates"):
         return int(found[len("aggregates"):])
     return 1
+
+
+def family_structure(family: str) -> str:
+    """The ``structure`` a candidate of ``family`` reads as from its clusters: ``single`` for
+    ``fused{m}`` (its parts are one cluster), the family itself otherwise.
+
+    Parameters
+    ----------
+    family : str
+        A ``BoxCandidates.family``.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from pyfrustrate.ground_states import family_structure
+    >>> family_structure("fused4"), family_structure("aggregates4")
+    ('single', 'aggregates4')
+    """
+    family = str(family)
+    return "single" if family.startswith("fused") else family
 
 
 def width_in_rows(sites, box) -> float:

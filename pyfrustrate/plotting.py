@@ -68,7 +68,7 @@ LABELS = {
 
 # How the box structures of ground_states.FAMILIES (and "bulk") are written in figures.
 STRUCTURE_LABELS = {"single": "one aggregate", "wrapping_fiber": "fibre around the box",
-                    "aggregates": "several aggregates", "gas": "gas", "bulk": "bulk"}
+                    "aggregates": "several aggregates", "fused": "fused aggregates", "gas": "gas", "bulk": "bulk"}
 
 
 def matching_prediction(run, predictions):
@@ -120,7 +120,8 @@ def structure_label(structure: str) -> str:
     Parameters
     ----------
     structure : str
-        A key of ``STRUCTURE_LABELS``, or ``"aggregatesN"``: N separate aggregates.
+        A key of ``STRUCTURE_LABELS``, ``"aggregatesN"``: N separate aggregates, or ``"fusedN"``:
+        N aggregates joined by necks, one cluster.
 
     Returns
     -------
@@ -130,11 +131,12 @@ def structure_label(structure: str) -> str:
     Examples
     --------
     >>> from pyfrustrate.plotting import structure_label
-    >>> structure_label("wrapping_fiber"), structure_label("aggregates3")
-    ('fibre around the box', '3 aggregates')
+    >>> structure_label("wrapping_fiber"), structure_label("aggregates3"), structure_label("fused4")
+    ('fibre around the box', '3 aggregates', '4 fused aggregates')
     """
-    if structure.startswith("aggregates") and structure[len("aggregates"):].isdigit():
-        return f"{structure[len('aggregates'):]} aggregates"
+    for family, words in (("aggregates", "aggregates"), ("fused", "fused aggregates")):
+        if structure.startswith(family) and structure[len(family):].isdigit():
+            return f"{structure[len(family):]} {words}"
     return STRUCTURE_LABELS.get(structure, structure.replace("_", " "))
 
 

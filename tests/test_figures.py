@@ -354,3 +354,26 @@ def test_contour_labels_sit_at_the_chosen_height_and_skip_squeezed_levels():
     assert len(places) == 2
     assert np.allclose([p[0] for p in places], [0.5, 0.8], atol=0.01)
     assert np.allclose([p[1] for p in places], 0.4, atol=0.01)
+
+
+def test_fused_predictions_are_one_cluster_in_the_mc_figures():
+    """A box whose predicted ground state is aggregates fused by necks (ground_states' fused{m}) is
+    one cluster: figX_mc_diagram counts a run in one cluster as in its structure, not one in two,
+    and names the prediction in words; figX_mc_scale writes it under its point as fused disks when
+    the classifier reads it so, as fused aggregates otherwise."""
+    import importlib.util
+
+    def load(name):
+        spec = importlib.util.spec_from_file_location(name, ROOT / "figures" / f"{name}.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        return module
+
+    diagram, scale = load("figX_mc_diagram"), load("figX_mc_scale")
+    mc = {"structure": np.array(["single", "aggregates2", "aggregates2", "single"]),
+          "ground_family": np.array(["fused2", "fused2", "aggregates2", "single"])}
+    assert diagram.in_ground_structure(mc).tolist() == [True, False, True, True]
+    assert diagram.structure_words("fused3") == "3 aggregates joined by necks"
+    runs = {"ground_family": np.array(["fused4", "fused4", "single"]),
+            "verdict_kind_predicted": np.array(["fused_disks", "fiber", "disk"])}
+    assert [scale.ground_label(runs, k) for k in range(3)] == ["4 fused disks", "4 fused aggregates", "one aggregate"]
