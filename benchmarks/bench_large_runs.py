@@ -12,7 +12,7 @@ on a shortened schedule (``--sweeps``), in two modes:
                temperature, sweeps, process CPU, attempted moves per CPU second, and the chain's
                counters over the stage (screened by the bond count, bounded, relaxed, cache hits,
                factorisations, runs on the parent's factor), the largest cluster at its end; a
-               text table (``--out``).
+               text table (``--out``) and a CSV (``--csv``).
 ``--compare``  the whole shortened run (schedule and descent) with each of ``--variants``
                alternately, A B A B (``--repeats`` rounds), in this process: ``workflow`` the rule's
                options (no parent factor), ``parentK`` the same with ``parent_factor=True,
@@ -137,6 +137,8 @@ def profile(args, particle, g):
         with atomic_path(args.out) as tmp:
             Path(tmp).write_text(text)
         print(f"wrote {args.out}")
+    if args.csv:
+        _common.write_csv(args.csv, rows, dict(benchmark="bench_large_runs --profile", **run_parameters(args)))
 
 
 def one_run(args, particle, g, name):
@@ -175,11 +177,15 @@ def compare(args, particle, g):
     worst = max(abs(r["running_minus_scratch_over_g"]) for r in rows)
     print(f"largest |running - recomputed| energy: {worst:.2e} g")
     if args.csv:
-        _common.write_csv(args.csv, rows, dict(benchmark="bench_large_runs", n=args.n, box=args.box, ell=args.ell,
-                                               eps=args.eps, nu=args.nu, Gamma=args.Gamma, seed=args.seed,
-                                               sweeps=args.sweeps, moves=MOVES, window=WINDOW,
-                                               descent_rounds=args.descent_rounds,
-                                               variants=args.variants, repeats=args.repeats))
+        _common.write_csv(args.csv, rows, dict(benchmark="bench_large_runs --compare", repeats=args.repeats,
+                                               **run_parameters(args)))
+
+
+def run_parameters(args) -> dict:
+    """What a CSV's provenance records of the runs."""
+    return dict(n=args.n, box=args.box, ell=args.ell, eps=args.eps, nu=args.nu, Gamma=args.Gamma, seed=args.seed,
+                sweeps=args.sweeps, moves=MOVES, window=WINDOW, descent_rounds=args.descent_rounds,
+                variants=args.variants)
 
 
 def main(argv=None):
@@ -196,7 +202,7 @@ def main(argv=None):
     ap.add_argument("--descent-rounds", type=int, default=WINDOW["descent_rounds"],
                     help="most rounds of the descent (the workflow's by default; fewer to keep a profile short)")
     ap.add_argument("--out", type=Path, default=None, help="--profile: the table's text file")
-    ap.add_argument("--csv", type=Path, default=None, help="--compare: the CSV")
+    ap.add_argument("--csv", type=Path, default=None, help="the rows as CSV (--profile: one per stage; --compare: one per run)")
     args = ap.parse_args(argv)
     for name in args.variants:
         variant_options(name)  # a bad name fails before any run
