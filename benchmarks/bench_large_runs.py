@@ -15,9 +15,12 @@ on a shortened schedule (``--sweeps``), in two modes:
                text table (``--out``) and a CSV (``--csv``).
 ``--compare``  the whole shortened run (schedule and descent) with each of ``--variants``
                alternately, A B A B (``--repeats`` rounds), in this process: ``workflow`` the rule's
-               options (no parent factor), ``parentK`` the same with ``parent_factor=True,
-               parent_factor_min_particles=K``. Per run: process CPU of the schedule and of the
-               descent, their ratios to the ``workflow`` run of the same round, relaxations and
+               moves without the parent's factor, ``parentK`` the same with ``parent_factor=True,
+               parent_factor_min_particles=K``; a suffix ``+screened`` puts rounds at
+               ``descent_temperature`` g (``descend(temperature=)``, moves that break bonds screened
+               out) before the descent at T = 0, as the rule does. Per run: process CPU of the
+               schedule and of the descent (screened rounds included), their ratios to the first
+               variant's run of the same round, relaxations and
                ms per relaxation, the final energy and bonds, the largest cluster, and the
                energy recomputed from scratch (``box_energy``: every cluster relaxed anew without
                the cache) against the chain's running sum. The chains with and without the
@@ -52,20 +55,28 @@ from bench_large_control import MOVES  # noqa: E402  (the workflow's moves of th
 
 #: config/config.yaml's large_collective schedule (config/paper.yaml keeps it): the window in
 #: units of g, the fractions of the sweeps in it and at T = 0, the descent's rounds.
-WINDOW = dict(window=(0.15, 0.3), dwell=0.8, quench=0.005, descent_sweeps=20, descent_rounds=20)
+WINDOW = dict(window=(0.15, 0.3), dwell=0.8, quench=0.005, descent_sweeps=20, descent_rounds=20,
+              descent_temperature=0.01)
 #: The counters a stage reports, as differences over the stage.
 COUNTERS = ("attempted", "accepted", "screened", "bounded", "minimisations", "cache_hits", "cache_misses",
             "factorizations", "warm_starts", "warm_restarts", "parent_relaxations", "parent_fresh")
 
 
-def variant_options(name: str) -> MonteCarloOptions:
-    """``workflow`` (the rule's options) or ``parentK`` (with the parent's factor, clusters of at
-    least K particles keeping theirs)."""
-    if name == "workflow":
-        return MonteCarloOptions(**MOVES)
-    if name.startswith("parent") and name[len("parent"):].isdigit():
-        return MonteCarloOptions(**MOVES, parent_factor=True, parent_factor_min_particles=int(name[len("parent"):]))
-    raise ValueError(f"variants: expected 'workflow' or 'parentK' (K an integer), got {name!r}")
+def variant_options(name: str) -> tuple[MonteCarloOptions, float]:
+    """The chain's options and the temperature of the screened rounds before the descent (in units
+    of g; 0: none) of a variant: ``workflow`` (the rule's moves, no parent factor) or ``parentK``
+    (with the parent's factor, clusters of at least K particles keeping theirs), each optionally
+    with ``+screened`` (rounds at ``WINDOW["descent_temperature"]`` before the descent at T = 0)."""
+    options, _, suffix = name.partition("+")
+    if suffix not in ("", "screened"):
+        raise ValueError(f"variants: the only suffix is '+screened', got {name!r}")
+    screened = WINDOW["descent_temperature"] if suffix else 0.0
+    if options == "workflow":
+        return MonteCarloOptions(**MOVES), screened
+    if options.startswith("parent") and options[len("parent"):].isdigit():
+        return (MonteCarloOptions(**MOVES, parent_factor=True, parent_factor_min_particles=int(options[len("parent"):])),
+                screened)
+    raise ValueError(f"variants: expected 'workflow' or 'parentK' (K an integer), optionally '+screened', got {name!r}")
 
 
 def largest_cluster(result) -> int:
@@ -100,7 +111,7 @@ def schedule_for(args, g):
 
 
 def profile(args, particle, g):
-    options = variant_options(args.variants[0])
+    options, screened = variant_options(args.variants[0])
     rows, result = [], None
     for k, (T, moves) in enumerate(schedule_for(args, g)):
         before = None if result is None else dict(result.counters)
@@ -110,19 +121,20 @@ def profile(args, particle, g):
         rows.append(stage_row(f"schedule {k}", T / g, moves / args.n, cpu, before, result.counters,
                               largest_cluster(result), result.energy, g))
         print(rows[-1], flush=True)
-    for k in range(args.descent_rounds):  # descend's rounds, one at a time
-        before = dict(result.counters)
-        cpu = time.process_time()
-        result, _, still = descend(particle, result, options=options, sweeps_per_round=WINDOW["descent_sweeps"],
-                                   max_rounds=1)
-        cpu = time.process_time() - cpu
-        rows.append(stage_row(f"descent {k + 1}", 0.0, WINDOW["descent_sweeps"], cpu, before, result.counters,
-                              largest_cluster(result), result.energy, g))
-        print(rows[-1], flush=True)
-        if still:
-            break
+    for label, T_over_g in (("screened", screened), ("descent", 0.0)) if screened else (("descent", 0.0),):
+        for k in range(args.descent_rounds):  # descend's rounds, one at a time
+            before = dict(result.counters)
+            cpu = time.process_time()
+            result, _, still = descend(particle, result, options=options, sweeps_per_round=WINDOW["descent_sweeps"],
+                                       max_rounds=1, temperature=T_over_g * g)
+            cpu = time.process_time() - cpu
+            rows.append(stage_row(f"{label} {k + 1}", T_over_g, WINDOW["descent_sweeps"], cpu, before, result.counters,
+                                  largest_cluster(result), result.energy, g))
+            print(rows[-1], flush=True)
+            if still:
+                break
     total = sum(float(r["cpu_s"]) for r in rows)
-    descent = sum(float(r["cpu_s"]) for r in rows if r["stage"].startswith("descent"))
+    descent = sum(float(r["cpu_s"]) for r in rows if not r["stage"].startswith("schedule"))
     header = (f"# Profile of one large run, stage by stage (benchmarks/bench_large_runs.py --profile): {args.n} hexagons"
               f" in {args.box} x {args.box}, ell = {args.ell}, eps = {args.eps}, nu = {args.nu}, Gamma = {args.Gamma}, "
               f"seed {args.seed}, {args.sweeps} sweeps of window_schedule {WINDOW} and at most {args.descent_rounds} rounds "
@@ -142,17 +154,22 @@ def profile(args, particle, g):
 
 
 def one_run(args, particle, g, name):
-    options = variant_options(name)
+    options, screened = variant_options(name)
     cpu = time.process_time()
     run = continue_run(particle, g, args, options, schedule_for(args, g), None)
     schedule_cpu = time.process_time() - cpu
-    result, rounds, _ = descend(particle, run, options=options, sweeps_per_round=WINDOW["descent_sweeps"],
-                                max_rounds=args.descent_rounds)
+    result, screened_rounds = run, 0
+    if screened:  # as workflow/scripts/montecarlo_run.py: screened rounds, then the descent at T = 0
+        result, screened_rounds, _ = descend(particle, run, options=options, sweeps_per_round=WINDOW["descent_sweeps"],
+                                             max_rounds=args.descent_rounds, temperature=screened * g)
+    result, rounds, converged = descend(particle, result, options=options, sweeps_per_round=WINDOW["descent_sweeps"],
+                                        max_rounds=args.descent_rounds)
     descent_cpu = time.process_time() - cpu - schedule_cpu
     c = result.counters
     scratch = new_chain(particle, g, args.box, args.n, args.seed, options, state=result.state.chain).box_energy()
     return dict(variant=name, schedule_cpu_s=schedule_cpu, descent_cpu_s=descent_cpu,
-                cpu_s=schedule_cpu + descent_cpu, descent_rounds=rounds, relaxations=c["minimisations"],
+                cpu_s=schedule_cpu + descent_cpu, screened_rounds=screened_rounds, descent_rounds=rounds,
+                descent_converged=converged, relaxations=c["minimisations"],
                 ms_per_relaxation=1e3 * (schedule_cpu + descent_cpu) / max(c["minimisations"], 1),
                 parent_relaxations=c["parent_relaxations"], parent_fresh=c["parent_fresh"],
                 factorizations=c["factorizations"], schedule_energy_over_g=run.energy / g,

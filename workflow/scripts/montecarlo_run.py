@@ -22,7 +22,9 @@ schedule, pyfrustrate.montecarlo.window_schedule from g through the reshaping wi
 units of g; `dwell` and `quench` the fractions of the sweeps there and at T = 0), and after the
 schedule a descent at T = 0 in rounds of `descent_sweeps` sweeps until a round gains less than a
 hundredth of a bond (pyfrustrate.montecarlo.descend; at most `descent_rounds` rounds), so that the
-run's energy is that of a local minimum of its moves, not of a state still on its way down. The
+run's energy is that of a local minimum of its moves, not of a state still on its way down; before
+it, as many rounds at `descent_temperature` g, where moves that break bonds are screened out by
+their bond count instead of relaxed one by one (0: none). The
 other kinds' rule has no such param. It also passes `relaxation`, fields of MonteCarloOptions for its chain
 (parent_factor: a move that changes the box's one large aggregate by a few particles relaxes it on
 its parent's modified factor)."""
@@ -74,13 +76,22 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
         print(f"resumed from checkpoint {checkpoint}")
     final, exchange, exchange_checkpoint, descent = r, {}, None, {}
     if collective:
-        final, descent_rounds, still = descend(particle, r, options=options, sweeps_per_round=collective["descent_sweeps"],
+        # First rounds at descent_temperature (in units of g; 0: none), where moves that break bonds
+        # are screened out by their bond count instead of relaxed and refused one by one as at
+        # T = 0; then the descent at T = 0, which certifies the minimum.
+        near, screened_rounds = r, 0
+        if collective["descent_temperature"] > 0:
+            near, screened_rounds, _ = descend(particle, r, options=options, sweeps_per_round=collective["descent_sweeps"],
+                                               max_rounds=collective["descent_rounds"],
+                                               temperature=collective["descent_temperature"] * g)
+        final, descent_rounds, still = descend(particle, near, options=options, sweeps_per_round=collective["descent_sweeps"],
                                        max_rounds=collective["descent_rounds"])
         print(f"descent at T = 0 after the schedule: energy {r.energy:.6g} -> {final.energy:.6g}, bonds {r.bonds} -> "
-              f"{final.bonds}, {descent_rounds} rounds of {collective['descent_sweeps']} sweeps, "
+              f"{final.bonds}, {screened_rounds} rounds at {collective['descent_temperature']:g} g then {descent_rounds} "
+              f"at T = 0, of {collective['descent_sweeps']} sweeps each, "
               + ("a local minimum" if still else "still descending when the rounds ran out"))
-        descent = dict(schedule_energy=r.energy, schedule_bonds=r.bonds, descent_rounds_run=descent_rounds,
-                       descent_converged=still)
+        descent = dict(schedule_energy=r.energy, schedule_bonds=r.bonds, descent_screened_rounds_run=screened_rounds,
+                       descent_rounds_run=descent_rounds, descent_converged=still)
     rounds = p.exchange["rounds"]
     # Gamma_measured comes back from the g it was mapped to, a few ulps off the grid's value: a run
     # at exactly Gamma_min must take the stage.
