@@ -104,6 +104,9 @@ measured_sources = {
     "benchmarks/results/large_runs_quick.csv":
         "python benchmarks/bench_large_runs.py --compare --n 400 --box 85 --sweeps 4000 --repeats 1 "
         "--variants workflow parent64 --csv benchmarks/results/large_runs_quick.csv",
+    "benchmarks/results/large_runs_screened_quick.csv":
+        "python benchmarks/bench_large_runs.py --compare --n 400 --box 85 --sweeps 4000 --repeats 1 "
+        "--variants parent64 parent64+screened --csv benchmarks/results/large_runs_screened_quick.csv",
     "benchmarks/results/large_profile_parent64_screened.csv":
         "python benchmarks/bench_large_runs.py --profile --sweeps 1500 --variants parent64+screened "
         "--out benchmarks/results/large_profile_parent64_screened.txt --csv benchmarks/results/large_profile_parent64_screened.csv",
