@@ -98,6 +98,18 @@ measured_sources = {
     "benchmarks/results/mc_goals_speed_sparse.csv":
         "python benchmarks/bench_mc_goals.py --only 'c sparse nu=0.4 Gamma=0.1' 'c sparse nu=0.9 Gamma=0.5' "
         "--sparse-sweeps 2000 --starts warm --baseline BASE --csv benchmarks/results/mc_goals_speed_sparse.csv",
+    "benchmarks/results/large_runs.csv":
+        "python benchmarks/bench_large_runs.py --compare --sweeps 400 --descent-rounds 2 --repeats 2 "
+        "--variants workflow parent64 --csv benchmarks/results/large_runs.csv",
+    "benchmarks/results/large_runs_quick.csv":
+        "python benchmarks/bench_large_runs.py --compare --n 400 --box 85 --sweeps 4000 --repeats 1 "
+        "--variants workflow parent64 --csv benchmarks/results/large_runs_quick.csv",
+    "benchmarks/results/large_runs_screened_quick.csv":
+        "python benchmarks/bench_large_runs.py --compare --n 400 --box 85 --sweeps 4000 --repeats 1 "
+        "--variants parent64 parent64+screened --csv benchmarks/results/large_runs_screened_quick.csv",
+    "benchmarks/results/large_profile_parent64_screened.csv":
+        "python benchmarks/bench_large_runs.py --profile --sweeps 1500 --variants parent64+screened "
+        "--out benchmarks/results/large_profile_parent64_screened.txt --csv benchmarks/results/large_profile_parent64_screened.csv",
     "benchmarks/results/mc_rules_quick_before.csv":
         "bash scripts/mc_rule_benchmarks.sh 4e30625 quick benchmarks/results/mc_rules_quick_before.csv",
     "benchmarks/results/mc_rules_quick_after.csv":

@@ -101,6 +101,20 @@ std::shared_ptr<RelaxedCluster> factorised_cluster(const Model& model, const Top
     return out;
 }
 
+// `cluster` moved rigidly by `shift` (cells): the same factor, displacements and pins, its sites
+// and reference corners translated (a finite cluster's energy and Hessian do not change under a
+// translation). The Monte Carlo's rigid cluster moves carry a cluster's factor to new sites
+// (montecarlo/chain.hpp, translate_factors); its children, found there, match it particle by
+// particle only if its sites moved with it.
+inline std::shared_ptr<RelaxedCluster> translated_cluster(const RelaxedCluster& cluster, const LatticeVector& shift) {
+    auto out = std::make_shared<RelaxedCluster>(cluster);
+    for (Site& s : out->topology.sites) s[0] += shift[0], s[1] += shift[1];
+    const Vec2 d = cell_position(shift);
+    for (Vec2& r : out->topology.reference) r += d;
+    out->topology.pivot += d;
+    return out;
+}
+
 // Particle p's corners without a known displacement (known[c] == 0) placed by the rigid motion
 // of its reference corners that best fits its corners with one (known[c] != 0; least squares,
 // the translation alone if one is known); each placed corner is marked known[c] = 2 and, if

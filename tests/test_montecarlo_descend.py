@@ -1,5 +1,5 @@
 """``annealing.descend``: a run continued at T = 0 until a round gains nothing ends in a local
-minimum of its moves. Checked by exact enumeration: from the final state of a small box, every
+minimum of its moves (also after rounds at a small positive temperature, ``temperature=``). Checked by exact enumeration: from the final state of a small box, every
 single-particle jump to an empty site (the moves of a chain with particle moves only) is relaxed
 from scratch, and none lowers the energy; the state the descent started from, taken at a
 temperature where the chain still climbs, is not such a minimum (the check can fail)."""
@@ -59,7 +59,21 @@ def test_rounds_that_run_out_while_gaining_are_not_a_minimum(hot_run):
     assert rounds == 1 and not still and final.energy < run.energy - 1e-9 * g
 
 
+def test_screened_rounds_then_a_descent_end_in_a_local_minimum(hot_run):
+    """Rounds at a small positive temperature (moves that break bonds screened out by their bond
+    count) run at that temperature; a descent at T = 0 after them ends, like one from the hot
+    state, where the enumeration finds no single jump that lowers the energy."""
+    particle, g, run = hot_run
+    near, _, _ = descend(particle, run, options=OPTIONS, sweeps_per_round=200, max_rounds=5, min_gain=1e-9,
+                         temperature=0.01 * g)
+    assert np.all(near.temperature == 0.01 * g)
+    final, rounds, still = descend(particle, near, options=OPTIONS, sweeps_per_round=200, min_gain=1e-9)
+    assert still
+    assert best_jump(particle, g, final.sites) >= final.energy - 1e-3 * g
+
+
 @pytest.mark.parametrize("kwargs,match", [
+    (dict(temperature=-1.0), "temperature"),
     (dict(sweeps_per_round=0), "sweeps_per_round"),
     (dict(max_rounds=0), "max_rounds"),
     (dict(min_gain=-1.0), "min_gain"),

@@ -60,6 +60,32 @@ def test_parent_factor_min_particles_turns_small_clusters_off():
     assert np.array_equal(ea, eb)
 
 
+def test_parent_factor_follows_rigid_translations():
+    """One aggregate alone in its box, translated whole by cluster moves (link 1: rigid, accepted
+    without relaxing) between its surface moves: the factor each translation carries is moved with
+    it (translated_cluster), so that nearly every relaxation of the aggregate is given its parent.
+    Before, a translation left the factor at sites its topology did not hold, and the relaxations
+    after it went without a parent until the aggregate's next relaxed move (most of them, with
+    cluster moves this frequent). The running energy equals the cold relaxation of every cluster
+    from scratch."""
+    from pyfrustrate import topology as tp
+
+    particle, g = setup(DENSE)
+    n = 37
+    mc = kernel_mc(particle, g, 16, n, 3, "newton", tol=1e-3, parent_start=True, parent_factor=True,
+                   parent_factor_min_particles=2, cluster_moves=0.3, cluster_link=1.0, bonded_moves=0.3,
+                   surface_moves=0.5)
+    mc.place(np.asarray(tp.hexagon_sites(3))[:, :2] + 5)  # a compact hexagon of 37 particles
+    mc.run(np.array([0.3 * g]), np.array([6000]))
+    c = mc.counters
+    assert c["cluster_accepted"] > 1000, c  # many rigid translations
+    given_parent = c["parent_relaxations"] + c["parent_fresh"]
+    assert given_parent > 0.8 * c["minimisations"] and c["parent_relaxations"] > 0.5 * c["minimisations"], c
+    assert c["unconverged"] == 0
+    scale = n * particle.bulk_energy_per_particle
+    assert abs(mc.energy - mc.box_energy(True)) < 1e-5 * scale
+
+
 # Each chain runs alone in a fresh child interpreter, so that a crash of the kernel fails the test
 # instead of ending pytest. One chain per process: whether memory read after it was freed still
 # holds usable stale data (no crash) depends on what the process allocated before.

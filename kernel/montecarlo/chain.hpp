@@ -158,6 +158,12 @@ private:
     // nullptr otherwise.
     const RelaxedCluster* parent_of(const Cluster& cluster, std::vector<Site>& sites);
     void forget_displacements(const std::vector<int>& sites);
+    // parent_factor: after a rigid move, the factors it carried (make_move) replaced at the sites
+    // reached by copies translated with it (translated_cluster), so that parent_of finds the
+    // cluster's particles at its factor's sites again. Without it the large box's aggregate,
+    // translated whole by a cluster move every few hundred moves at T = 0 (accepted: the energy
+    // does not change), lost its parent until its next relaxed move (benchmarks/bench_large_runs.py).
+    void translate_factors();
     double scratch_deformation(bool canonical, bool cached, bool relabel);
     int new_cluster_id(double deformation);
 
@@ -409,6 +415,7 @@ inline bool MonteCarlo<Model>::attempt(Move& move, typename Move::Counters& own,
         const int id = label_[p.from[0]];
         for (const int s : p.from) label_[s] = -1;
         for (const int t : p.to) label_[t] = id;
+        if (options_.parent_factor) translate_factors();
         ++counters.accepted;
         move.accepted(p, own);
         return true;
@@ -779,6 +786,23 @@ inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<doub
             }
     }
     return e;
+}
+
+template <class Model>
+inline void MonteCarlo<Model>::translate_factors() {
+    const Proposal& p = proposal_;
+    const Site a = box_.coords(p.from[0]), b = box_.coords(p.to[0]);
+    // The shortest of the shifts that agree modulo the box (sites match modulo the box anyway).
+    const auto nearest = [L = box_.L](int d) { return d - L * static_cast<int>(std::lround(static_cast<double>(d) / L)); };
+    const LatticeVector shift{nearest(b[0] - a[0]), nearest(b[1] - a[1])};
+    std::vector<std::pair<RelaxedCluster*, std::shared_ptr<RelaxedCluster>>> done;  // each carried factor once
+    for (const int t : p.to) {
+        std::shared_ptr<RelaxedCluster>& at = site_factor_[t];
+        if (!at) continue;
+        auto it = std::find_if(done.begin(), done.end(), [&](const auto& d) { return d.first == at.get(); });
+        if (it == done.end()) it = done.insert(done.end(), {at.get(), translated_cluster(*at, shift)});
+        at = it->second;
+    }
 }
 
 template <class Model>

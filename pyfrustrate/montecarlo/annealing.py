@@ -348,7 +348,7 @@ def window_schedule(window, n: int, *, sweeps: int, T0: float, dwell: float = 0.
 
 
 def descend(particle, result: AnnealResult, *, options, sweeps_per_round: int = 20, max_rounds: int = 50,
-            min_gain: float = 0.01) -> tuple[AnnealResult, int, bool]:
+            min_gain: float = 0.01, temperature: float = 0.0) -> tuple[AnnealResult, int, bool]:
     """Continue a run at ``T = 0`` until it stands in a local minimum of its moves.
 
     A schedule's last stage at ``T = 0`` is a descent (every move that does not raise the energy
@@ -357,6 +357,14 @@ def descend(particle, result: AnnealResult, *, options, sweeps_per_round: int = 
     ``result`` in rounds of ``sweeps_per_round`` sweeps at ``T = 0`` until a round lowers the
     energy by less than ``min_gain`` bonds' worth (``min_gain * g``; relaxation to the run's
     tolerance leaves energies uncertain well below that), or ``max_rounds`` rounds have run.
+
+    At ``T = 0`` no move is screened by its bond count (delayed acceptance needs ``T > 0``), so
+    every move that breaks bonds relaxes the clusters it changes before it is refused: in a box
+    holding one large aggregate each such round costs as much as hundreds of rounds at a small
+    positive temperature, where those moves are screened out (``exp(-g / T)`` per bond lost)
+    while the bond-neutral and bond-making ones still run. ``temperature > 0`` runs the rounds
+    there (the same stopping rule); a second call at ``T = 0`` then certifies the minimum, in
+    fewer rounds than a descent at ``T = 0`` alone needs (``benchmarks/bench_large_runs.py``).
 
     Parameters
     ----------
@@ -372,6 +380,9 @@ def descend(particle, result: AnnealResult, *, options, sweeps_per_round: int = 
         Most rounds, >= 1.
     min_gain : float, keyword only
         The least energy drop of a round, in units of ``g``, that starts another (>= 0).
+    temperature : float, keyword only
+        The rounds' temperature (>= 0, energy units): 0 (default) a descent, where every move
+        that lowers the energy is taken; small and positive, a screened walk near the minimum.
 
     Returns
     -------
@@ -401,11 +412,12 @@ def descend(particle, result: AnnealResult, *, options, sweeps_per_round: int = 
     sweeps_per_round = integer("sweeps_per_round", sweeps_per_round, 1)
     max_rounds = integer("max_rounds", max_rounds, 1)
     min_gain = non_negative("min_gain", min_gain)
+    temperature = non_negative("temperature", temperature)
     current, chain = result, result.state.chain
     for rounds in range(1, max_rounds + 1):
         start = AnnealState(done=0, chain=chain, energy_trace=np.zeros(0), accepted=np.zeros(0, np.int64))
         following = anneal(particle, g=result.g, box=result.box, n=result.n, seed=result.seed,
-                           schedule=[(0.0, sweeps_per_round * result.n)], options=options, state=start,
+                           schedule=[(temperature, sweeps_per_round * result.n)], options=options, state=start,
                            progress=False)
         assert following.state is not None  # anneal always returns the state it ended in
         gain = current.energy - following.energy

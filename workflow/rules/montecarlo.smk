@@ -30,6 +30,8 @@ use rule montecarlo_run as montecarlo_large_run with:
         **mc_run_params(),
         # Keys sorted: the same params whatever the order of the configuration file.
         collective=dict(sorted(MC["large_collective"].items())),
+        # Its chain's relaxation options (parent_factor; MonteCarloOptions fields).
+        relaxation=dict(sorted(MC["large_relaxation"].items())),
     wildcard_constraints:
         kind="large",
         seed=r"\d+",

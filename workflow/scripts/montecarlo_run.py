@@ -22,8 +22,12 @@ schedule, pyfrustrate.montecarlo.window_schedule from g through the reshaping wi
 units of g; `dwell` and `quench` the fractions of the sweeps there and at T = 0), and after the
 schedule a descent at T = 0 in rounds of `descent_sweeps` sweeps until a round gains less than a
 hundredth of a bond (pyfrustrate.montecarlo.descend; at most `descent_rounds` rounds), so that the
-run's energy is that of a local minimum of its moves, not of a state still on its way down. The
-other kinds' rule has no such param."""
+run's energy is that of a local minimum of its moves, not of a state still on its way down; before
+it, as many rounds at `descent_temperature` g, where moves that break bonds are screened out by
+their bond count instead of relaxed one by one (0: none). The
+other kinds' rule has no such param. It also passes `relaxation`, fields of MonteCarloOptions for its chain
+(parent_factor: a move that changes the box's one large aggregate by a few particles relaxes it on
+its parent's modified factor)."""
 import os
 import time
 
@@ -50,14 +54,16 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
     collective = getattr(p, "collective", None)  # only the large box's rule passes it
     isometry = {key: collective[key] for key in ("shift_moves", "rotation_moves", "reflection_moves", "isometry_link")
                 } if collective else {}
+    relaxation = dict(getattr(p, "relaxation", None) or {})  # only the large box's rule passes it (parent_factor)
     checkpoint = (f"{p.checkpoint_stem}_{n}in{box}_{sweeps}sweeps_{method}_tol{p.tol:g}_eps{p.eps:g}"
                   f"_cm{cluster_moves:g}_link{cluster_link:g}_bonded{bonded_moves:g}_surface{surface_moves:g}"
                   + "".join(f"_{key}{value:g}" for key, value in isometry.items())
                   + (f"_window{collective['window'][0]:g}-{collective['window'][1]:g}_dwell{collective['dwell']:g}"
-                     f"_quench{collective['quench']:g}" if collective else "") + ".npz")
+                     f"_quench{collective['quench']:g}" if collective else "")
+                  + (f"_pf{relaxation['parent_factor_min_particles']}" if relaxation.get("parent_factor") else "") + ".npz")
     # One chain for both stages: the anneal and the exchange after it make the same moves.
     options = MonteCarloOptions(method=method, tol=p.tol, cluster_moves=cluster_moves, cluster_link=cluster_link,
-                                bonded_moves=bonded_moves, surface_moves=surface_moves, **isometry)
+                                bonded_moves=bonded_moves, surface_moves=surface_moves, **isometry, **relaxation)
     chain = dict(g=g, box=box, n=n, seed=p.seed, options=options, progress=True)
     schedule = dict(steps=n * sweeps)
     if collective:
@@ -70,13 +76,22 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
         print(f"resumed from checkpoint {checkpoint}")
     final, exchange, exchange_checkpoint, descent = r, {}, None, {}
     if collective:
-        final, descent_rounds, still = descend(particle, r, options=options, sweeps_per_round=collective["descent_sweeps"],
+        # First rounds at descent_temperature (in units of g; 0: none), where moves that break bonds
+        # are screened out by their bond count instead of relaxed and refused one by one as at
+        # T = 0; then the descent at T = 0, which certifies the minimum.
+        near, screened_rounds = r, 0
+        if collective["descent_temperature"] > 0:
+            near, screened_rounds, _ = descend(particle, r, options=options, sweeps_per_round=collective["descent_sweeps"],
+                                               max_rounds=collective["descent_rounds"],
+                                               temperature=collective["descent_temperature"] * g)
+        final, descent_rounds, still = descend(particle, near, options=options, sweeps_per_round=collective["descent_sweeps"],
                                        max_rounds=collective["descent_rounds"])
         print(f"descent at T = 0 after the schedule: energy {r.energy:.6g} -> {final.energy:.6g}, bonds {r.bonds} -> "
-              f"{final.bonds}, {descent_rounds} rounds of {collective['descent_sweeps']} sweeps, "
+              f"{final.bonds}, {screened_rounds} rounds at {collective['descent_temperature']:g} g then {descent_rounds} "
+              f"at T = 0, of {collective['descent_sweeps']} sweeps each, "
               + ("a local minimum" if still else "still descending when the rounds ran out"))
-        descent = dict(schedule_energy=r.energy, schedule_bonds=r.bonds, descent_rounds_run=descent_rounds,
-                       descent_converged=still)
+        descent = dict(schedule_energy=r.energy, schedule_bonds=r.bonds, descent_screened_rounds_run=screened_rounds,
+                       descent_rounds_run=descent_rounds, descent_converged=still)
     rounds = p.exchange["rounds"]
     # Gamma_measured comes back from the g it was mapped to, a few ulps off the grid's value: a run
     # at exactly Gamma_min must take the stage.
@@ -110,7 +125,8 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
              cluster_sizes=np.array(sizes), cluster_moves=cluster_moves,
              cluster_link=cluster_link, bonded_moves=bonded_moves, surface_moves=surface_moves, kind=p.kind, tiling=p.tiling,
              convention=p.convention, Gamma_measured=Gamma_measured, cpu_seconds=cpu_seconds, elapsed=r.elapsed,
-             **{f"collective_{key}": value for key, value in (collective or {}).items()}, **descent, **exchange)
+             **{f"collective_{key}": value for key, value in (collective or {}).items()},
+             **{f"relaxation_{key}": value for key, value in relaxation.items()}, **descent, **exchange)
     for path in (checkpoint, exchange_checkpoint):  # the result is saved: nothing left to resume
         if path is not None:
             os.remove(path)
