@@ -114,6 +114,9 @@ measured_sources = {
         "bash scripts/mc_rule_benchmarks.sh 4e30625 quick benchmarks/results/mc_rules_quick_before.csv",
     "benchmarks/results/mc_rules_quick_after.csv":
         "bash scripts/mc_rule_benchmarks.sh HEAD quick benchmarks/results/mc_rules_quick_after.csv",
+    "benchmarks/results/mc_rules_paper_pairs.csv":
+        "MC_PAIR_WORK=DIR bash scripts/mc_rule_pairs.sh 4e30625 HEAD paper benchmarks/results/mc_rules_paper_pairs.csv "
+        "$(cat DIR/targets.txt)",
 }
 
 html_theme = "pydata_sphinx_theme"
