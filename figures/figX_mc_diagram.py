@@ -83,17 +83,6 @@ def hollow_markers_explained(mc, n):
     return lines
 
 
-def structure_words(family) -> str:
-    """A box structure (``ground_states.FAMILIES``, ``aggregatesK`` and ``fusedK`` with their count)
-    in words."""
-    family = str(family)
-    if family.startswith("aggregates"):
-        return f"{family.removeprefix('aggregates') or 'several'} separate aggregates"
-    if family.startswith("fused"):
-        return f"{family.removeprefix('fused') or 'several'} aggregates joined by necks"
-    return {"single": "one aggregate", "wrapping_fiber": "a fibre wrapping the box", "gas": "the gas"}.get(family, family)
-
-
 def fused_runs_explained(mc, n):
     """Caption lines on the runs within the criterion that end in fused disks, or that the classifier
     calls fibres, where the best single aggregate of ``n`` is compact: their energy against the best
@@ -110,7 +99,7 @@ def fused_runs_explained(mc, n):
             f"The run within the criterion at ν = {mc['nu'][k]:g}, Γ = {mc['Gamma'][k]:g} {called} where the best "
             f"single aggregate of {n} is compact{'' if named else ' (asterisk)'}: it ends {abs(mc['gap'][k]):.1f} bulk "
             f"particle energies {'below' if below else 'above'} that aggregate and {mc['gap_ground'][k]:.1f} above the "
-            f"box's predicted ground state, {structure_words(mc['ground_family'][k])}"
+            f"box's predicted ground state, {plotting.structure_label(str(mc['ground_family'][k]))}"
             + (f": below the best compact aggregate, so {shape} that family lacks and the marker reads that shape, "
                "not a wrong prediction." if below else "."))
     return lines

@@ -311,7 +311,7 @@ def test_mc_diagram_summary_explains_exactly_the_fused_runs_within_the_criterion
           "ground_family": np.array(["aggregates2", "single", "single", "single", "single"])}
     lines = figure.fused_runs_explained(mc, 200)
     assert len(lines) == 3
-    assert "ν = 0.2, Γ = 0.2" in lines[0] and "2 separate aggregates" in lines[0] and "reads that shape" in lines[0]
+    assert "ν = 0.2, Γ = 0.2" in lines[0] and "2 aggregates" in lines[0] and "reads that shape" in lines[0]
     assert "ν = 0.5, Γ = 0.3" in lines[1] and "one aggregate" in lines[1] and "reads that shape" not in lines[1]
     assert "ν = 0.3, Γ = 0.6" in lines[2] and "fused by necks" in lines[2] and "asterisk" not in lines[2]
 
@@ -373,7 +373,6 @@ def test_fused_predictions_are_one_cluster_in_the_mc_figures():
     mc = {"structure": np.array(["single", "aggregates2", "aggregates2", "single"]),
           "ground_family": np.array(["fused2", "fused2", "aggregates2", "single"])}
     assert diagram.in_ground_structure(mc).tolist() == [True, False, True, True]
-    assert diagram.structure_words("fused3") == "3 aggregates joined by necks"
     runs = {"ground_family": np.array(["fused4", "fused4", "single"]),
             "verdict_kind_predicted": np.array(["fused_disks", "fiber", "disk"])}
     assert [scale.ground_label(runs, k) for k in range(3)] == ["4 fused disks", "4 fused aggregates", "one aggregate"]
