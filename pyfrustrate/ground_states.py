@@ -652,9 +652,16 @@ def family_structure(family: str) -> str:
 
 
 def width_in_rows(sites, box) -> float:
-    """Width of the largest cluster of a box configuration, in lattice rows: its extent across its
-    long axis (the smaller principal axis of its site centres, unwrapped) over the row spacing
-    sqrt(3)/2, plus one. W full rows of a straight fibre give W.
+    """Width of the largest cluster of a box configuration, in lattice rows: that of the strip with
+    as many particles ``n`` and as many exposed sides ``E = 6 n - 2 b`` (``b`` bonds).
+
+    A straight strip of ``W`` rows of ``L`` particles has ``E = 4 (L + W) - 2``, and one that wraps
+    the box ``E = 4 L`` (no ends), so ``W`` is the smaller root of ``x^2 - (E + 2) x / 4 + n = 0``
+    for a finite cluster and ``4 n / E`` for a wrapping one. Exact for straight strips; a fibre
+    bent by 60 or 120 degrees keeps its arms' width to a quarter of a row, where the extent across
+    the principal axis reads the bend's span (twice to seven times the width). Kinks and holes
+    expose more sides, so a rough fibre reads a little narrower. A cluster too compact for any
+    strip (a disk) reads as the square strip, ``(E + 2) / 8``.
 
     Parameters
     ----------
@@ -667,21 +674,29 @@ def width_in_rows(sites, box) -> float:
     -------
     float
 
+    Raises
+    ------
+    ValueError
+        The largest cluster wraps the box both ways (bulk): it has no width.
+
     Examples
     --------
     >>> from pyfrustrate.ground_states import width_in_rows
     >>> round(width_in_rows([(i, j) for i in range(12) for j in range(3)], 12), 6)
     3.0
+    >>> round(width_in_rows([(i, j) for i in range(20) for j in range(3)], 40), 6)
+    3.0
     """
     from .montecarlo import clusters
-    coords = clusters(np.asarray(sites, int), int(box))[0][0]
-    xy = topology.site_positions(coords[:, :2])
-    if len(xy) < 2:
-        return 1.0
-    centred = xy - xy.mean(axis=0)
-    across = np.linalg.eigh(centred.T @ centred)[1][:, 0]  # the smaller principal axis
-    spread = centred @ across
-    return float((spread.max() - spread.min()) / topology.ROW_SPACING + 1.0)
+    coords, rank = clusters(np.asarray(sites, int), int(box))[0]
+    if rank == 2:
+        raise ValueError("width_in_rows: the largest cluster wraps the box both ways (bulk); it has no width")
+    n = len(coords)
+    exposed = 6 * n - 2 * box_bonds(coords[:, :2], int(box))
+    if rank == 1:
+        return float(4 * n / exposed)
+    half_sum = (exposed + 2) / 8  # (L + W) / 2
+    return float(half_sum - np.sqrt(max(half_sum ** 2 - n, 0.0)))
 
 
 def aggregate_kind(sites, box) -> str:

@@ -37,8 +37,42 @@ def candidates_of(best_sites):
 
 @pytest.mark.parametrize("width", [1, 2, 3, 5])
 def test_width_in_rows_counts_the_rows_of_a_strip_and_of_a_wrapping_fibre(width):
-    assert width_in_rows(rows(30, width), BOX) == pytest.approx(width, abs=0.05)
-    assert width_in_rows([(i, j) for j in range(width) for i in range(BOX)], BOX) == pytest.approx(width, abs=0.1)
+    assert width_in_rows(rows(30, width), BOX) == pytest.approx(width, abs=1e-9)
+    assert width_in_rows(np.array(sorted(parallelogram(30, width))), BOX) == pytest.approx(width, abs=1e-9)
+    assert width_in_rows([(i, j) for j in range(width) for i in range(BOX)], BOX) == pytest.approx(width, abs=1e-9)
+
+
+def parallelogram(length, width, i0=0, j0=0):
+    return {(i0 + i, j0 + j) for j in range(width) for i in range(length)}
+
+
+def bent(width, angle, arm=24):
+    """A fibre of ``width`` rows that turns by ``angle`` degrees: an arm along a1, then one along
+    a2 (60) or a2 - a1 (120), sharing the corner."""
+    first = parallelogram(30, width)
+    if angle == 60:
+        second = {(30 - width + i, j) for i in range(width) for j in range(arm)}
+    else:
+        second = {(29 - j - i, j) for j in range(arm) for i in range(width)}
+    return np.array(sorted(first | second))
+
+
+@pytest.mark.parametrize("width", [3, 6, 10, 13])
+@pytest.mark.parametrize("angle", [60, 120])
+def test_width_in_rows_reads_a_bent_fibre_by_its_arms(width, angle):
+    # The arms' width is known by construction; the extent across the principal axis would read
+    # the bend's span instead (twice to seven times the width for these shapes).
+    assert width_in_rows(bent(width, angle), 200) == pytest.approx(width, abs=0.25)
+
+
+def test_width_in_rows_refuses_a_bulk_and_reads_a_disk_as_compact():
+    with pytest.raises(ValueError, match="both ways"):
+        width_in_rows([(i, j) for i in range(6) for j in range(6)], 6)
+    # A hexagonal disk of radius R is more compact than any strip of its n particles: the square
+    # strip of its exposed sides, whose rows are at most sqrt(n).
+    R = 6
+    n = 3 * R * R + 3 * R + 1
+    assert width_in_rows(disk(R), BOX) <= np.sqrt(n) + 1e-9
 
 
 def test_the_prediction_judged_against_itself_matches_with_no_gap():
