@@ -6,7 +6,10 @@ The moves are written again from their definitions (``kernel/montecarlo`` and th
 with an empty neighbour to a random empty site with an occupied neighbour, Hastings ratio
 ``n_s n_p / (n_s' n_p')``); a linked cluster move (a set grown by following each bond with
 probability ``link``, shifted by a random cell vector, Hastings factor ``(1 - link)**(b' - b)``);
-an outline move (grand-canonical, ``kernel/montecarlo/outline_move.hpp``: with probability 1/2 a
+a vacancy move (with probability 1/2 a particle with an empty neighbour to a random hole, an empty
+site whose neighbours are all occupied, else a particle whose neighbours are all occupied to a
+random empty site with an occupied and an empty neighbour; Hastings ratio ``n_s n_h / (n_i' n_p')``
+for a fill, ``n_i n_p / (n_s' n_h')`` for a dig); an outline move (grand-canonical, ``kernel/montecarlo/outline_move.hpp``: with probability 1/2 a
 particle inserted on a random empty site next to the aggregate, else a random removable particle
 deleted, removability found by a search of the rest rather than by articulation points; Hastings
 ratio e(C) / d(C') for an insertion, d(C) / e(C') for a deletion, ``mu`` per particle gained). With
@@ -18,6 +21,7 @@ numbers them. ``wrong`` names one deliberately wrong rule:
 ``"double_deformation"``  the deformation part of the energy change counted twice;
 ``"link_p"``              ``link**(b' - b)`` in place of ``(1 - link)**(b' - b)``;
 ``"no_surface_ratio"``    surface moves accepted without their Hastings ratio;
+``"no_vacancy_ratio"``    vacancy moves accepted without their Hastings ratio;
 ``"outline_counts_dropped"``  outline moves accepted without their Hastings ratio;
 ``"outline_counts_swapped"``  with its inverse (the reverse move's choices over the forward's).
 ``"no_isometry_factor"``  isometry moves accepted without ``(1 - link)**(b' - b)``;
@@ -42,7 +46,7 @@ import numpy as np
 from pyfrustrate import topology as T
 
 NEIGHBOURS = [tuple(int(x) for x in d) for d in T.NEIGHBOURS]
-WRONG_RULES = ("double_deformation", "link_p", "no_surface_ratio", "outline_counts_dropped", "outline_counts_swapped",
+WRONG_RULES = ("double_deformation", "link_p", "no_surface_ratio", "no_vacancy_ratio", "outline_counts_dropped", "outline_counts_swapped",
                "no_isometry_factor", "stale_rest")
 TURN = np.array([[0, -1], [1, 1]])  # +60 degrees: (i, j) -> (-j, i + j)
 MIRROR = np.array([[-1, -1], [0, 1]])  # about the axis at 90 degrees: (i, j) -> (-i - j, j)
@@ -64,7 +68,7 @@ class ReferenceChain:
     so that ``E + g bonds`` is the deformation part)."""
 
     def __init__(self, states, E, g, box, *, surface_moves=0.0, cluster_moves=0.0, link=1.0, outline_moves=0.0, mu=0.0,
-                 isometry_moves=None, isometry_link=0.3, wrong=None, seed=0):
+                 isometry_moves=None, isometry_link=0.3, vacancy_moves=0.0, wrong=None, seed=0):
         if wrong not in (None,) + WRONG_RULES:
             raise ValueError(f"wrong must be one of {WRONG_RULES} or None, got {wrong!r}")
         self.index = {s: k for k, s in enumerate(states)}
@@ -73,6 +77,7 @@ class ReferenceChain:
         self.box, self.g = box, g
         self.surface_moves, self.cluster_moves, self.link, self.wrong = surface_moves, cluster_moves, link, wrong
         self.outline_moves, self.mu = outline_moves, mu
+        self.vacancy_moves = vacancy_moves
         self.sizes = np.array([len(s) for s in states])
         # {"shift": probability, ...}: tried in that order before the other moves, as the kernel does
         self.isometry_moves = dict(isometry_moves or {})
@@ -114,6 +119,38 @@ class ReferenceChain:
         surface_after, perimeter_after = self._exposed(after)
         log_ratio = math.log(len(surface) * len(perimeter) / (len(surface_after) * len(perimeter_after)))
         return a, b, 0.0 if self.wrong == "no_surface_ratio" else log_ratio
+
+    def _vacancy_kinds(self, occupied):
+        """(surface, interior, holes, perimeter): particles with and without an empty neighbour,
+        empty sites with every neighbour occupied and with some but not all."""
+        D = len(NEIGHBOURS)
+        count = {s: self._occupied_neighbours(s, occupied) for s in range(self.box * self.box)}
+        surface = sorted(s for s in occupied if count[s] < D)
+        interior = sorted(s for s in occupied if count[s] == D)
+        holes = sorted(s for s in count if s not in occupied and count[s] == D)
+        perimeter = sorted(s for s in count if s not in occupied and 0 < count[s] < D)
+        return surface, interior, holes, perimeter
+
+    def _vacancy_proposal(self, occupied):
+        surface, interior, holes, perimeter = self._vacancy_kinds(occupied)
+        fill = self.rng.random() < 0.5
+        sources, targets = (surface, holes) if fill else (interior, perimeter)
+        if not sources or not targets:
+            return None
+        a, b = sources[self.rng.integers(len(sources))], targets[self.rng.integers(len(targets))]
+        after = (occupied - {a}) | {b}
+        surface_after, interior_after, holes_after, perimeter_after = self._vacancy_kinds(after)
+        # The reverse draws b from the interior (fill) or the surface (dig), and a among the
+        # perimeter (fill) or the holes (dig).
+        if fill and (b not in interior_after or a not in perimeter_after):
+            return None
+        if not fill and (b not in surface_after or a not in holes_after):
+            return None
+        if fill:
+            ratio = len(surface) * len(holes) / (len(interior_after) * len(perimeter_after))
+        else:
+            ratio = len(interior) * len(perimeter) / (len(surface_after) * len(holes_after))
+        return a, b, 0.0 if self.wrong == "no_vacancy_ratio" else math.log(ratio)
 
     def _grow(self, a, occupied, link):
         grown, queue = {a}, [a]
@@ -218,8 +255,11 @@ class ReferenceChain:
         if u < self.cluster_moves:
             proposal = self._cluster_proposal(occupied)
             return proposal if proposal else (None, 0.0)
-        proposal = (self._surface_proposal(occupied) if self.rng.random() < self.surface_moves
-                    else self._particle_proposal(occupied))
+        if self.vacancy_moves and self.rng.random() < self.vacancy_moves:
+            proposal = self._vacancy_proposal(occupied)
+        else:
+            proposal = (self._surface_proposal(occupied) if self.rng.random() < self.surface_moves
+                        else self._particle_proposal(occupied))
         if not proposal:
             return None, 0.0
         a, b, log_hastings = proposal

@@ -421,6 +421,36 @@ def test_surface_moves_keep_the_incremental_bookkeeping(particle, g):
     assert mc.counters["surface_accepted"] > 100
 
 
+def test_vacancy_moves_keep_the_incremental_bookkeeping(particle, g):
+    """Vacancy moves (holes filled and dug) go through the same incremental cluster bookkeeping:
+    the running energy and bonds equal a recomputation from scratch along an anneal of a box
+    dense enough to hold holes."""
+    box, n = 8, 40
+    mc = kernel_mc(particle, g, box, n, 6, "newton", vacancy_moves=0.5, surface_moves=0.3)
+    assert_running_totals(mc, particle, box, n, np.linspace(g, 0.1 * g, 8), 400, 1e-9)
+    assert mc.counters["vacancy_filled"] > 20 and mc.counters["vacancy_accepted"] > mc.counters["vacancy_filled"]
+
+
+def test_a_vacancy_move_fills_the_hole_of_a_disk_and_a_surface_move_cannot(particle, g):
+    """A hexagonal disk of radius 4 with its centre empty, at T = 0: the hole's six bonds beat
+    the three of a corner particle, so a vacancy move from a corner fills it; a surface move
+    never proposes a particle into a site with no empty neighbour, so without vacancy moves the
+    hole stays (the other moves here are off)."""
+    radius, box = 4, 20
+    disk = [(i, j) for i in range(-radius, radius + 1) for j in range(-radius, radius + 1)
+            if abs(i + j) <= radius and (i, j) != (0, 0)]
+    sites = np.mod(np.array(disk) + 10, box)
+    ends = {}
+    for vacancy in (0.0, 0.9):
+        mc = kernel_mc(particle, g, box, len(sites), 2, "newton", vacancy_moves=vacancy, surface_moves=0.99)
+        mc.place(sites)
+        bonds = mc.bonds
+        mc.run(np.zeros(10), np.full(10, 200, dtype=np.int64))
+        ends[vacancy] = (mc.bonds - bonds, {tuple(s) for s in mc.particles.tolist()})
+    assert (10, 10) not in ends[0.0][1] and ends[0.0][0] <= 0
+    assert (10, 10) in ends[0.9][1] and ends[0.9][0] >= 3
+
+
 def test_linked_cluster_moves_keep_the_boltzmann_weights_of_triangles():
     """Linked cluster moves, bonded particle moves and surface moves together on the triangular tiling (two
     sublattices, three bonds per particle): a 3 x 3 box of 18 sites, 4 triangles (3 give only

@@ -5,7 +5,8 @@ For each factor a case (box, temperature, moves) is chosen where it weighs: the 
 energy (eps = 0.05, Gamma = 0.1 at T = 0.5 g, deformation energies up to ~0.4 T), the linked-move
 factor (1 - link)^(b' - b) at link = 0.8, where (1 - link) and link differ fourfold (at 0.5 they
 are equal and no statistic could tell them apart), and the surface-move Hastings ratio in a 5 x 5
-box, where the counts of surface particles and perimeter sites change from move to move, and the
+box, where the counts of surface particles and perimeter sites change from move to move, the
+vacancy-move ratio in a 4 x 4 box of 13 particles, where holes come and go, and the
 isometry moves' factor (1 - link)^(b' - b) at link 0.8 (dropped: "no_isometry_factor") and their
 count of b' against the rest alone, the set's old sites being left (counted as still occupied:
 "stale_rest"; a turned or mirrored set always overlaps its image at the seed). Then:
@@ -15,7 +16,7 @@ count of b' against the rest alone, the set's old sites being left (counted as s
 * an independent chain in Python on the kernel's exact energies (``montecarlo_reference``) with
   the right rules passes the same statistic at the same sample size;
 * the same chain with one deliberately wrong rule (the deformation term doubled, ``link`` in
-  place of ``1 - link``, the surface ratio dropped, the isometry factor dropped, b' counted against
+  place of ``1 - link``, the surface ratio dropped, the vacancy ratio dropped, the isometry factor dropped, b' counted against
   the set's old sites) fails it.
 """
 import numpy as np
@@ -32,6 +33,11 @@ CASES = {
     "double_deformation": dict(Gamma=0.1, box=4, n=3, moves={}),
     "link_p": dict(Gamma=0.1, box=4, n=3, moves=dict(cluster_moves=0.5, cluster_link=0.8)),
     "no_surface_ratio": dict(Gamma=0.5, box=5, n=3, moves=dict(surface_moves=0.9)),
+    # 13 particles in a 4 x 4 box: holes come and go, and the counts of holes, interior,
+    # surface and perimeter sites change from move to move; 560 states, so more samples for the
+    # state distance.
+    "no_vacancy_ratio": dict(Gamma=0.5, box=4, n=13, moves=dict(vacancy_moves=0.9, surface_moves=0.5),
+                             samples=600_000),
     "no_isometry_factor": dict(Gamma=0.1, box=4, n=3, moves=dict(shift_moves=0.3, rotation_moves=0.3,
                                                                  reflection_moves=0.3, isometry_link=0.8)),
     "stale_rest": dict(Gamma=0.1, box=4, n=3, moves=dict(rotation_moves=0.5, reflection_moves=0.5, isometry_link=0.5)),
@@ -68,7 +74,7 @@ def test_kernel_samples_the_boltzmann_weights_where_each_factor_matters(name, de
     particle, g, states, E = case(name)
     c = CASES[name]
     mc = kernel_mc(particle, g, c["box"], c["n"], 21, delayed_acceptance=delayed, **c["moves"])
-    statistics = compare_with_boltzmann(mc, states, E, T_OVER_G * g, g, SAMPLES)
+    statistics = compare_with_boltzmann(mc, states, E, T_OVER_G * g, g, c.get("samples", SAMPLES))
     assert passes(statistics), statistics
     assert len(np.unique(np.round(E / g, 9))) >= 5
 
@@ -94,8 +100,9 @@ def reference_statistics(name, wrong):
     isometry = {kind: moves[option] for kind, option in ISOMETRY_OPTIONS.items() if option in moves}
     chain = ReferenceChain(states, E, g, c["box"], surface_moves=moves.get("surface_moves", 0.0),
                            cluster_moves=moves.get("cluster_moves", 0.0), link=moves.get("cluster_link", 1.0),
-                           isometry_moves=isometry, isometry_link=moves.get("isometry_link", 0.3), wrong=wrong, seed=5)
-    ids = chain.run(states[0], T_OVER_G * g, SAMPLES)
+                           isometry_moves=isometry, isometry_link=moves.get("isometry_link", 0.3),
+                           vacancy_moves=moves.get("vacancy_moves", 0.0), wrong=wrong, seed=5)
+    ids = chain.run(states[0], T_OVER_G * g, c.get("samples", SAMPLES))
     return boltzmann_statistics(ids, states, E, T_OVER_G * g, g)
 
 

@@ -8,12 +8,14 @@
 #include "montecarlo/outline_move.hpp"
 #include "montecarlo/particle_move.hpp"
 #include "montecarlo/surface_move.hpp"
+#include "montecarlo/vacancy_move.hpp"
 
 #include <tuple>
 
 namespace pyfrustrate {
 
-using MoveFamilies = std::tuple<OutlineMove, ClusterMove, ShiftMove, RotationMove, ReflectionMove, SurfaceMove, ParticleMove>;
+using MoveFamilies = std::tuple<OutlineMove, ClusterMove, ShiftMove, RotationMove, ReflectionMove, VacancyMove, SurfaceMove,
+                                ParticleMove>;
 
 template <class Tuple>
 struct CountersOf;

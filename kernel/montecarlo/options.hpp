@@ -49,6 +49,8 @@ struct MonteCarloOptions {
     double rotation_moves = 0.0;
     double reflection_moves = 0.0;
     double isometry_link = 0.3;
+    // Vacancy moves (montecarlo/vacancy_move.hpp): holes filled and dug, off by default.
+    double vacancy_moves = 0.0;
     bool cache = true;        // cache relaxed energies by canonical shape
     bool incremental = true;  // false: re-minimise every cluster of the box on every move
                               // (the naive baseline of the benchmark; no cache either)
@@ -161,6 +163,10 @@ void for_each_option(Options& o, F&& f) {
            "the reservoir's chemical potential mu of outline moves, in the units of g (the chain samples "
            "exp(-(E - mu n) / T))"),
       o.chemical_potential);
+    f(real("vacancy_moves", S::Run, 0, false, 1, false,
+           "probability of a vacancy move: a particle with an empty neighbour to a hole (an empty site with every "
+           "neighbour occupied), or a particle with every neighbour occupied to an empty site next to the outline"),
+      o.vacancy_moves);
     f(real("shift_moves", S::Run, 0, false, 1, false,
            "probability of a shift move: a linked set (grown with isometry_link) moved to a neighbouring site"),
       o.shift_moves);

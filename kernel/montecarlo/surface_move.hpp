@@ -22,6 +22,17 @@
 
 namespace pyfrustrate {
 
+// The sites whose neighbour counts a jump of one particle from a to b can change: a, b and their
+// neighbours, each once (surface and vacancy moves count their candidates over these before and
+// after the move instead of over the box).
+inline void jump_neighbourhood(const Box& box, int a, int b, std::vector<int>& around) {
+    around.assign({a, b});
+    for (const int s : {a, b})
+        for (int d = 0; d < box.neighbours(); ++d) around.push_back(box.next(s, d));
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+}
+
 struct SurfaceMove {
     static constexpr const char* kName = "surface";
     struct Counters {
@@ -78,11 +89,7 @@ struct SurfaceMove {
         const int b = perimeter[c.uniform_index(perimeter.size())];
         // Only a, b and their neighbours can change status: the counts after the move are those
         // before plus the change over these sites.
-        around.assign({a, b});
-        for (const int s : {a, b})
-            for (int d = 0; d < box.neighbours(); ++d) around.push_back(box.next(s, d));
-        std::sort(around.begin(), around.end());
-        around.erase(std::unique(around.begin(), around.end()), around.end());
+        jump_neighbourhood(box, a, b, around);
         before = exposed_counts(c, around);
         p.from.push_back(a);
         p.to.push_back(b);
