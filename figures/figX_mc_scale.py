@@ -56,7 +56,8 @@ def ground_label(scale, k):
 
 def verdict_text(scale, k):
     """A run's structure, the prediction's in brackets where it differs: e.g. "1 fibre, 9 rows (8)",
-    "2 disks (1)", "fused disks (4 disks)": one cluster, where four separate disks are predicted."""
+    "2 disks (1)", "fused disks (4 disks)": one cluster, where four separate disks are predicted,
+    "6 fused disks (4)": six disks joined by necks, where four are predicted."""
     count, kind = int(scale["verdict_count"][k]), str(scale["verdict_kind"][k])
     text = kind_words(kind, count)
     predicted, count_predicted = [], int(scale["verdict_count_predicted"][k])
@@ -67,6 +68,10 @@ def verdict_text(scale, k):
     width = float(scale["verdict_width"][k])
     if np.isfinite(width):
         text += f", {width:.0f} rows ({float(scale['verdict_width_predicted'][k]):.0f})"
+    lobes = float(scale["verdict_lobes"][k]) if "verdict_lobes" in scale else np.nan
+    if np.isfinite(lobes):  # fused disks, as predicted: how many disks, the prediction's in brackets
+        predicted_lobes = int(scale["verdict_lobes_predicted"][k])
+        text = f"{int(lobes)} fused disks" + (f" ({predicted_lobes})" if predicted_lobes != int(lobes) else "")
     return text + (f" ({' '.join(predicted)})" if predicted else "")
 
 

@@ -65,8 +65,8 @@ WIDTH_TOLERANCE_ROWS = 1
 #: the same shape to the runs' and the candidates' tolerances leaves.
 BELOW_PREDICTION_MARGIN = 0.1
 #: The fields of ``structure_verdict`` that the workflow stores per run (all but the gap itself).
-VERDICT_FIELDS = ("count", "count_predicted", "kind", "kind_predicted", "width", "width_predicted", "gap_gate",
-                  "count_ok", "kind_ok", "width_ok", "gap_ok", "structure_match", "candidates_within_gate",
+VERDICT_FIELDS = ("count", "count_predicted", "kind", "kind_predicted", "width", "width_predicted", "lobes",
+                  "lobes_predicted", "gap_gate", "count_ok", "kind_ok", "width_ok", "lobes_ok", "gap_ok", "structure_match", "candidates_within_gate",
                   "structure_within_gate", "below_prediction")
 _NEIGHBOURS = tuple(tuple(int(x) for x in d) for d in topology.neighbour_sites((0, 0)))  # the six edge neighbours
 #: The lattice directions along which ``fused_copies`` places neighbouring copies: a1, a2 (the
@@ -734,9 +734,10 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     The run and the prediction (the best of ``candidates`` at ``g``) are read by the same
     functions: the aggregate count (``aggregate_count`` of ``structure``), the kind of the
     largest aggregate (``aggregate_kind``: ``fiber`` or ``disk``, or another kind)
-    and, for a fibre, its width in rows (``width_in_rows``). The run's **structure matches** when
-    the count is exact, the kind the same and, for fibres, the width within
-    ``WIDTH_TOLERANCE_ROWS``. The energy gap (bulk energies above the prediction) is reported and
+    and, for a fibre, its width in rows (``width_in_rows``), for disks fused by necks, the number
+    of disks they join (``montecarlo.analysis.compact_lobes``). The run's **structure matches**
+    when the count is exact, the kind the same and, for fibres, the width within
+    ``WIDTH_TOLERANCE_ROWS``, for fused disks, the number of disks the same. The energy gap (bulk energies above the prediction) is reported and
     gated at ``max(EQUILIBRATED_GAP, GATE_BONDS * g / bulk_energy)``.
 
     The gate can be wider than the energy between candidates of different structure (one disk
@@ -764,8 +765,9 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     -------
     dict
         ``count``, ``count_predicted``, ``kind``, ``kind_predicted``, ``width``,
-        ``width_predicted`` (rows; None unless both are fibres), ``gap`` and ``gap_gate`` (bulk
-        energies), ``count_ok``, ``kind_ok``, ``width_ok``, ``gap_ok``, ``structure_match``,
+        ``width_predicted`` (rows; None unless both are fibres), ``lobes``, ``lobes_predicted``
+        (disks joined; None unless both are fused disks), ``gap`` and ``gap_gate`` (bulk
+        energies), ``count_ok``, ``kind_ok``, ``width_ok``, ``lobes_ok``, ``gap_ok``, ``structure_match``,
         ``candidates_within_gate`` (how many candidates lie within the gate of the prediction,
         the prediction included), ``structure_within_gate`` and ``below_prediction`` (the run's
         energy is below the prediction's by more than ``BELOW_PREDICTION_MARGIN`` bulk energies:
@@ -784,17 +786,20 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
         raise ValueError(f"bulk_energy must be positive, got {bulk_energy!r}")
     best = int(candidates.best(g))
     own, predicted = _structure_of(sites, box), _structure_of(candidates.sites[best], box)
-    (count, kind, width), (count_predicted, kind_predicted, width_predicted) = own, predicted
+    (count, kind, size), (count_predicted, kind_predicted, size_predicted) = own, predicted
     fibres = kind == kind_predicted == "fiber"
-    if not fibres:  # only fibres are judged by their width
-        width = width_predicted = None
+    fused = kind == kind_predicted == "fused_disks"
+    # Only fibres are judged by their width, fused disks by how many disks they join.
+    width, width_predicted = (size, size_predicted) if fibres else (None, None)
+    lobes, lobes_predicted = (size, size_predicted) if fused else (None, None)
     gap = (float(energy) - float(candidates.best_energy(g))) / bulk_energy
     gate = max(EQUILIBRATED_GAP, GATE_BONDS * float(g) / bulk_energy)
     verdict = dict(count=count, count_predicted=count_predicted, kind=str(kind), kind_predicted=str(kind_predicted),
-                   width=width, width_predicted=width_predicted, gap=gap, gap_gate=gate,
-                   count_ok=count == count_predicted, kind_ok=kind == kind_predicted,
-                   width_ok=not fibres or _same_width(width, width_predicted), gap_ok=gap <= gate)
-    verdict["structure_match"] = verdict["count_ok"] and verdict["kind_ok"] and verdict["width_ok"]
+                   width=width, width_predicted=width_predicted, lobes=lobes, lobes_predicted=lobes_predicted,
+                   gap=gap, gap_gate=gate, count_ok=count == count_predicted, kind_ok=kind == kind_predicted,
+                   width_ok=not fibres or _same_width(width, width_predicted), lobes_ok=lobes == lobes_predicted,
+                   gap_ok=gap <= gate)
+    verdict["structure_match"] = all(verdict[f"{part}_ok"] for part in ("count", "kind", "width", "lobes"))
     # The candidates the gate cannot tell from the prediction (the prediction among them): is the
     # run's structure one of theirs?
     excess = (candidates.total(g) - candidates.best_energy(g)) / bulk_energy
@@ -808,11 +813,17 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     return verdict
 
 
-def _structure_of(sites, box) -> tuple[int, str, float | None]:
-    """What ``structure_verdict`` compares: aggregate count, kind of the largest, its width in rows
-    if it is a fibre (else None)."""
+def _structure_of(sites, box) -> tuple[int, str, float | int | None]:
+    """What ``structure_verdict`` compares: aggregate count, kind of the largest, and its size: its
+    width in rows if it is a fibre, the number of disks if it is disks fused by necks (else None)."""
+    from .montecarlo.analysis import clusters, compact_lobes
     kind = str(aggregate_kind(sites, box))
-    return (aggregate_count(structure(sites, box)), kind, width_in_rows(sites, box) if kind == "fiber" else None)
+    size = None
+    if kind == "fiber":
+        size = width_in_rows(sites, box)
+    elif kind == "fused_disks":
+        size = len(compact_lobes(clusters(np.asarray(sites, int), int(box))[0][0]))
+    return aggregate_count(structure(sites, box)), kind, size
 
 
 def _same_width(width, other) -> bool:
@@ -820,5 +831,6 @@ def _same_width(width, other) -> bool:
 
 
 def _same_structure(a, b) -> bool:
-    """Same count and kind and, for fibres, widths within ``WIDTH_TOLERANCE_ROWS``."""
-    return a[:2] == b[:2] and (a[1] != "fiber" or _same_width(a[2], b[2]))
+    """Same count and kind and, for fibres, widths within ``WIDTH_TOLERANCE_ROWS``, for fused
+    disks, as many disks."""
+    return a[:2] == b[:2] and (_same_width(a[2], b[2]) if a[1] == "fiber" else a[1] != "fused_disks" or a[2] == b[2])

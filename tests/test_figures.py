@@ -376,3 +376,8 @@ def test_fused_predictions_are_one_cluster_in_the_mc_figures():
     runs = {"ground_family": np.array(["fused4", "fused4", "single"]),
             "verdict_kind_predicted": np.array(["fused_disks", "fiber", "disk"])}
     assert [scale.ground_label(runs, k) for k in range(3)] == ["4 fused disks", "4 fused aggregates", "one aggregate"]
+    fused = {"verdict_count": np.array([1, 1]), "verdict_kind": np.array(["fused_disks"] * 2),
+             "verdict_count_predicted": np.array([1, 1]), "verdict_kind_predicted": np.array(["fused_disks"] * 2),
+             "verdict_width": np.full(2, np.nan), "verdict_width_predicted": np.full(2, np.nan),
+             "verdict_lobes": np.array([6.0, 4.0]), "verdict_lobes_predicted": np.array([4.0, 4.0])}
+    assert [scale.verdict_text(fused, k) for k in range(2)] == ["6 fused disks (4)", "4 fused disks"]

@@ -75,6 +75,28 @@ def test_width_in_rows_refuses_a_bulk_and_reads_a_disk_as_compact():
     assert width_in_rows(disk(R), BOX) <= np.sqrt(n) + 1e-9
 
 
+def fused_chain(disks, radius=3):
+    """``disks`` hexagonal disks of ``radius`` in a row along a1, each touching the next at the
+    ends of their middle rows (a neck)."""
+    one = disk(radius)
+    return np.unique(np.vstack([one + (5 + k * (2 * radius + 1), 12) for k in range(disks)]), axis=0)
+
+
+def test_fused_disks_match_only_with_as_many_disks():
+    # Disks fused by necks are one cluster whatever their number: the verdict counts the disks
+    # (the compact lobes), so three fused disks are not the two predicted, and two are.
+    predicted = fused_chain(2)
+    c = candidates_of(predicted)
+    g, bulk = 0.1, 0.05
+    ground = -g * box_bonds(predicted, BOX)
+    same = structure_verdict(predicted, BOX, c, g, ground, bulk)
+    assert (same["kind"], same["lobes"], same["lobes_predicted"]) == ("fused_disks", 2, 2)
+    assert same["structure_match"] and same["lobes_ok"] and same["width"] is None
+    three = structure_verdict(fused_chain(3), BOX, c, g, ground, bulk)
+    assert (three["count_ok"], three["kind"], three["lobes"], three["lobes_predicted"]) == (True, "fused_disks", 3, 2)
+    assert not three["lobes_ok"] and not three["structure_match"]
+
+
 def test_the_prediction_judged_against_itself_matches_with_no_gap():
     fibre = rows(20, 3)
     c = candidates_of(fibre)
