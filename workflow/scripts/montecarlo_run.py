@@ -52,8 +52,8 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
     # Named by everything that defines the run, so a changed configuration starts afresh while an
     # interrupted run of the same configuration resumes.
     collective = getattr(p, "collective", None)  # only the large box's rule passes it
-    isometry = {key: collective[key] for key in ("shift_moves", "rotation_moves", "reflection_moves", "isometry_link")
-                } if collective else {}
+    isometry = {key: collective[key] for key in ("shift_moves", "rotation_moves", "reflection_moves", "isometry_link",
+                                                 "vacancy_moves") if key in collective} if collective else {}
     relaxation = dict(getattr(p, "relaxation", None) or {})  # only the large box's rule passes it (parent_factor)
     checkpoint = (f"{p.checkpoint_stem}_{n}in{box}_{sweeps}sweeps_{method}_tol{p.tol:g}_eps{p.eps:g}"
                   f"_cm{cluster_moves:g}_link{cluster_link:g}_bonded{bonded_moves:g}_surface{surface_moves:g}"
