@@ -66,8 +66,8 @@ WIDTH_TOLERANCE_ROWS = 1
 BELOW_PREDICTION_MARGIN = 0.1
 #: The fields of ``structure_verdict`` that the workflow stores per run (all but the gap itself).
 VERDICT_FIELDS = ("count", "count_predicted", "kind", "kind_predicted", "width", "width_predicted", "lobes",
-                  "lobes_predicted", "gap_gate", "count_ok", "kind_ok", "width_ok", "lobes_ok", "gap_ok", "structure_match", "candidates_within_gate",
-                  "structure_within_gate", "below_prediction")
+                  "lobes_predicted", "gap_gate", "count_ok", "kind_ok", "width_ok", "lobes_ok", "gap_ok",
+                  "structure_match", "candidates_within_gate", "structure_within_gate", "below_prediction")
 _NEIGHBOURS = tuple(tuple(int(x) for x in d) for d in topology.neighbour_sites((0, 0)))  # the six edge neighbours
 #: The lattice directions along which ``fused_copies`` places neighbouring copies: a1, a2 (the
 #: super-lattice's basis) and a2 - a1.
@@ -737,8 +737,9 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     and, for a fibre, its width in rows (``width_in_rows``), for disks fused by necks, the number
     of disks they join (``montecarlo.analysis.compact_lobes``). The run's **structure matches**
     when the count is exact, the kind the same and, for fibres, the width within
-    ``WIDTH_TOLERANCE_ROWS``, for fused disks, the number of disks the same. The energy gap (bulk energies above the prediction) is reported and
-    gated at ``max(EQUILIBRATED_GAP, GATE_BONDS * g / bulk_energy)``.
+    ``WIDTH_TOLERANCE_ROWS``, for fused disks, the number of disks the same. The energy gap (bulk
+    energies above the prediction) is reported and gated at
+    ``max(EQUILIBRATED_GAP, GATE_BONDS * g / bulk_energy)``.
 
     The gate can be wider than the energy between candidates of different structure (one disk
     more or fewer than predicted, an elongated aggregate beside a predicted disk), which no
@@ -767,7 +768,8 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
         ``count``, ``count_predicted``, ``kind``, ``kind_predicted``, ``width``,
         ``width_predicted`` (rows; None unless both are fibres), ``lobes``, ``lobes_predicted``
         (disks joined; None unless both are fused disks), ``gap`` and ``gap_gate`` (bulk
-        energies), ``count_ok``, ``kind_ok``, ``width_ok``, ``lobes_ok``, ``gap_ok``, ``structure_match``,
+        energies), ``count_ok``, ``kind_ok``, ``width_ok``, ``lobes_ok``, ``gap_ok``,
+        ``structure_match``,
         ``candidates_within_gate`` (how many candidates lie within the gate of the prediction,
         the prediction included), ``structure_within_gate`` and ``below_prediction`` (the run's
         energy is below the prediction's by more than ``BELOW_PREDICTION_MARGIN`` bulk energies:
