@@ -180,9 +180,10 @@ def test_gallery_fills_captions_from_the_profile_that_made_the_figure():
         text = gallery.rendered_caption(caption, ROOT, profile)
         assert "{{" not in text and "{%" not in text and "Made by the" not in text
         assert f"simulated anneal of {sweeps} sweeps" in text, profile
-    # The quick profile's paragraph on unequilibrated runs is there for the quick profile only.
-    assert "not equilibrated" in gallery.rendered_caption(caption, ROOT, "quick")
-    assert "not equilibrated" not in gallery.rendered_caption(caption, ROOT, "paper")
+    # Each profile has its own paragraph on how far the runs are from equilibrium.
+    assert "smoke test" in gallery.rendered_caption(caption, ROOT, "quick")
+    paper_text = gallery.rendered_caption(caption, ROOT, "paper")
+    assert "smoke test" not in paper_text and "because the box is finite" in paper_text
 
 
 def test_gallery_shows_a_rule_summary_as_written(tmp_path):
