@@ -20,9 +20,7 @@ fi
 
 # Rebuild only when a source file of the package changed since the last install.
 stamp="$VENV/.pyfrustrate-source-hash"
-# Every file of the kernel and every module of the package, subdirectories included.
-hash=$(cd "$ROOT" && cat pyproject.toml CMakeLists.txt $( (find kernel -type f; find pyfrustrate -name '*.py') | LC_ALL=C sort) |
-  sha256sum | cut -d' ' -f1)
+hash=$(bash "$ROOT/scripts/source_hash.sh" "$ROOT")
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$hash" ]; then
   echo "[setup] building and installing pyfrustrate (C++ kernel) into $VENV"
   "$VENV/bin/python" -m pip install -q --upgrade pip

@@ -31,9 +31,8 @@ def repository_copy(dest):
             shutil.copytree(src, dest / part, ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
         else:
             shutil.copy2(src, dest / part)
-    same_as_setup = "cat pyproject.toml CMakeLists.txt kernel/* pyfrustrate/*.py | sha256sum"  # scripts/setup.sh
-    source_hash = subprocess.run(["bash", "-c", same_as_setup], cwd=dest, capture_output=True, text=True,
-                                 check=True).stdout.split()[0]
+    source_hash = subprocess.run(["bash", str(ROOT / "scripts" / "source_hash.sh"), str(dest)], capture_output=True,
+                                 text=True, check=True).stdout.split()[0]  # as scripts/setup.sh computes it
     stamp = Path(sys.prefix) / ".pyfrustrate-source-hash"
     if not stamp.exists() or stamp.read_text().strip() != source_hash:
         pytest.skip("the installed package is not built from these sources (run scripts/setup.sh)")

@@ -28,6 +28,8 @@ their bond count instead of relaxed one by one (0: none). The
 other kinds' rule has no such param. It also passes `relaxation`, fields of MonteCarloOptions for its chain
 (parent_factor: a move that changes the box's one large aggregate by a few particles relaxes it on
 its parent's modified factor)."""
+import hashlib
+import json
 import os
 import time
 
@@ -55,15 +57,20 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
     isometry = {key: collective[key] for key in ("shift_moves", "rotation_moves", "reflection_moves", "isometry_link",
                                                  "vacancy_moves") if key in collective} if collective else {}
     relaxation = dict(getattr(p, "relaxation", None) or {})  # only the large box's rule passes it (parent_factor)
+    # One chain for both stages: the anneal and the exchange after it make the same moves.
+    options = MonteCarloOptions(method=method, tol=p.tol, cluster_moves=cluster_moves, cluster_link=cluster_link,
+                                bonded_moves=bonded_moves, surface_moves=surface_moves, **isometry, **relaxation)
+    # The chain's options hashed into the name as well: a checkpoint written before an option was
+    # added (or by another version's defaults) has another signature, which anneal refuses to
+    # resume, so such a run starts afresh under its own name instead of failing.
+    options_digest = hashlib.sha256(json.dumps(options.signature(), sort_keys=True, default=str).encode()).hexdigest()[:10]
     checkpoint = (f"{p.checkpoint_stem}_{n}in{box}_{sweeps}sweeps_{method}_tol{p.tol:g}_eps{p.eps:g}"
                   f"_cm{cluster_moves:g}_link{cluster_link:g}_bonded{bonded_moves:g}_surface{surface_moves:g}"
                   + "".join(f"_{key}{value:g}" for key, value in isometry.items())
                   + (f"_window{collective['window'][0]:g}-{collective['window'][1]:g}_dwell{collective['dwell']:g}"
                      f"_quench{collective['quench']:g}" if collective else "")
-                  + (f"_pf{relaxation['parent_factor_min_particles']}" if relaxation.get("parent_factor") else "") + ".npz")
-    # One chain for both stages: the anneal and the exchange after it make the same moves.
-    options = MonteCarloOptions(method=method, tol=p.tol, cluster_moves=cluster_moves, cluster_link=cluster_link,
-                                bonded_moves=bonded_moves, surface_moves=surface_moves, **isometry, **relaxation)
+                  + (f"_pf{relaxation['parent_factor_min_particles']}" if relaxation.get("parent_factor") else "")
+                  + f"_{options_digest}.npz")
     chain = dict(g=g, box=box, n=n, seed=p.seed, options=options, progress=True)
     schedule = dict(steps=n * sweeps)
     if collective:
