@@ -71,7 +71,7 @@ def stages_for(args, g):
     if args.schedule == "stages":
         pairs = [stage.split(":") for stage in args.stages]
         return [(float(t) * g, int(m) * args.n) for t, m in pairs]
-    low, high = WINDOW["window"]
+    low, high = args.window or WINDOW["window"]
     return window_schedule((low * g, high * g), args.n, sweeps=args.sweeps, T0=g, dwell=WINDOW["dwell"],
                            quench=WINDOW["quench"])
 
@@ -90,12 +90,16 @@ def trace(args):
     temps = np.concatenate([np.full(-(-m // args.n), t) for t, m in stages])
     block_steps = np.concatenate([np.diff(np.r_[0:m:args.n, m]) for _, m in stages])
     state = None
-    if args.seeded:  # the box's predicted ground state instead of the gas
+    if args.seeded or args.sites_from:  # the box's predicted ground state, or a run's end, instead of the gas
         from pyfrustrate.montecarlo.fixed_size import seeded_state
 
-        candidates, _ = candidates_for(args, particle, args.nu)
-        state = seeded_state(particle, candidates.sites[int(candidates.best(g))], args.box, args.seed, g=g,
-                             options=options).chain
+        if args.sites_from:
+            with np.load(args.sites_from, allow_pickle=False) as f:
+                sites = f["sites"]
+        else:
+            candidates, _ = candidates_for(args, particle, args.nu)
+            sites = candidates.sites[int(candidates.best(g))]
+        state = seeded_state(particle, sites, args.box, args.seed, g=g, options=options).chain
     mc = new_chain(particle, g, args.box, args.n, args.seed, options, state=state)
     rows, cpu, sweep = [], time.process_time(), 0
     for lo in range(0, len(temps), args.every):
@@ -149,9 +153,12 @@ def main(argv=None):
     ap.add_argument("--box", type=int, default=85)
     ap.add_argument("--sweeps", type=int, default=4000)
     ap.add_argument("--schedule", choices=("window", "stages"), default="window")
+    ap.add_argument("--window", type=float, nargs=2, default=None,
+                    help="the window schedule's window, in units of g (default: the workflow's)")
     ap.add_argument("--stages", nargs="+", default=[], help="T:sweeps pairs, T in units of g (--schedule stages)")
     ap.add_argument("--moves", nargs="+", default=[], help="key=value overrides of the workflow's moves")
     ap.add_argument("--seeded", action="store_true", help="start from the box's predicted ground state")
+    ap.add_argument("--sites-from", default="", help="start from the sites of this run file (npz, 'sites')")
     ap.add_argument("--candidates", default="results/montecarlo/finite/n{n}_nu{nu:g}.npz",
                     help="the box's candidates (the workflow's finite-size prediction), for --seeded")
     ap.add_argument("--every", type=int, default=10, help="sweeps between records")
@@ -162,8 +169,9 @@ def main(argv=None):
     args = ap.parse_args(argv)
     print(f"{machine_line()}\n{source_line()}")
     rows, cpu = trace(args)
-    row = dict(nu=args.nu, Gamma=args.Gamma, seed=args.seed, start="seeded" if args.seeded else "gas",
-               schedule=args.schedule if args.schedule == "window" else " ".join(args.stages),
+    row = dict(nu=args.nu, Gamma=args.Gamma, seed=args.seed, start="seeded" if args.seeded else (Path(args.sites_from).name or "gas"),
+               schedule=(f"window {' '.join(f'{t:g}' for t in args.window or WINDOW['window'])}" if args.schedule == "window"
+                         else " ".join(args.stages)),
                moves=" ".join(args.moves) or "workflow", **summary(rows), cpu_s=f"{cpu:.0f}")
     print("\n".join(f"{key}: {value}" for key, value in row.items()))
     path = Path(args.csv.format(nu=args.nu, Gamma=args.Gamma, seed=args.seed))

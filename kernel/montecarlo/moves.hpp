@@ -13,7 +13,7 @@
 
 namespace pyfrustrate {
 
-using MoveFamilies = std::tuple<OutlineMove, ClusterMove, ShiftMove, RotationMove, ReflectionMove, SurfaceMove, ParticleMove>;
+using MoveFamilies = std::tuple<OutlineMove, ClusterMove, ShiftMove, RotationMove, ReflectionMove, CarryMove, SurfaceMove, ParticleMove>;
 
 template <class Tuple>
 struct CountersOf;
