@@ -177,7 +177,8 @@ def main(argv=None):
     path = Path(args.csv.format(nu=args.nu, Gamma=args.Gamma, seed=args.seed))
     write_csv(path, rows, parameters=dict(nu=args.nu, Gamma=args.Gamma, seed=args.seed, ell=args.ell, eps=args.eps,
                                           n=args.n, box=args.box, sweeps=args.sweeps, schedule=args.schedule,
-                                          window=WINDOW, stages=args.stages, seeded=args.seeded, every=args.every, nucleus=args.nucleus, moves=moves_for(args),
+                                          window=WINDOW, window_override=args.window, stages=args.stages, seeded=args.seeded,
+                                          sites_from=args.sites_from, every=args.every, nucleus=args.nucleus, moves=moves_for(args),
                                           cpu_s=round(cpu)))
     if args.label:
         update_summary(Path(args.summary), args.label, row, parameters=dict(ell=args.ell, eps=args.eps, n=args.n, box=args.box,

@@ -22,3 +22,14 @@ trace --Gamma 0.5 --moves isometry_link=0.9 rotation_moves=0.0 reflection_moves=
     --csv $R/whole_set_shifts_G0.5.csv
 nice -n 2 "$PYTHON" benchmarks/bench_large_merging.py --variants workflow --points 0.4,0.5 0.4,0.8 --seeds 1 2 3 \
     --candidates "$CANDIDATES" --csv benchmarks/results/large_merging.csv
+# What was tried beyond the holds: a slow ramp, the window raised to 0.25-0.4 g, the carry move
+# (carry_moves) with either window, and the end of the failing Gamma = 0.8 run held at 0.35 g.
+trace --Gamma 0.5 --schedule stages --stages 1:200 0.8:200 0.6:200 0.5:400 0.45:600 0.4:800 0.35:800 0.3:800 \
+    --label slow_ramp_G0.5 --csv $R/slow_ramp_G0.5.csv
+trace --Gamma 0.5 --window 0.25 0.4 --label window0.25-0.4_G0.5 --csv $R/window0.25-0.4_G0.5.csv
+trace --Gamma 0.5 --moves carry_moves=0.05 --label carry_G0.5 --csv $R/carry_G0.5.csv
+trace --Gamma 0.5 --window 0.25 0.4 --moves carry_moves=0.05 --label carry_window0.25-0.4_G0.5 \
+    --csv $R/carry_window0.25-0.4_G0.5.csv
+# RUNS: the workflow's run files of a quick build (rule montecarlo_large_run), default results/montecarlo/runs.
+trace --Gamma 0.8 --sites-from "${RUNS:-results/montecarlo/runs}/large_nu0.4_G0.8_seed1.npz" --schedule stages \
+    --stages 0.35:1000 --label pair_held0.35_G0.8 --csv $R/pair_held0.35_G0.8.csv

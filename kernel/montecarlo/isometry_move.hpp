@@ -9,9 +9,10 @@
 //               the kCarryVectors: every cell vector of at most kCarryRadius neighbour steps.
 // Where the cluster move jumps sets across the box, these straighten and compact an aggregate
 // in place: a kinked branch turned back into line, a side arm folded against the body. A carry
-// moves a whole disk or a lobe a few sites: two disks that touch at a corner slide into contact
-// along a facet, which they then sinter across (docs/topics/montecarlo.md, "Why the runs at
-// nu = 0.4 end in rafts"); the cluster move's jumps across the box seldom land them there.
+// moves a whole disk or a lobe a few sites, so that two disks that touch at a corner may slide
+// into contact along a facet, which the cluster move's jumps across the box seldom land them in
+// (it did not make the large box's disks at nu = 0.4 fuse: docs/topics/montecarlo.md, "Why the
+// runs at nu = 0.4 end in rafts").
 //
 // Detailed balance. The forward proposal of S and map G has probability (1/N) F(S) (1 - p)^b
 // P(G), the seed drawn among N particles. Its reverse takes the same particle as seed (G keeps a
