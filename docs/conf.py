@@ -90,6 +90,8 @@ measured_sources = {
     "results/montecarlo/validation.json": "bash scripts/figures.sh results/montecarlo/validation.json (rule montecarlo_validation)",
     "benchmarks/results/anneal_defaults.csv": "python benchmarks/bench_anneal_defaults.py",
     "benchmarks/results/large_control.csv": "python benchmarks/bench_large_control.py --jobs 2",
+    "benchmarks/results/large_nucleation.csv": "CANDIDATES=RESULTS/montecarlo/finite/n{n}_nu{nu:g}.npz bash benchmarks/large_nucleation.sh",
+    "benchmarks/results/large_merging.csv": "CANDIDATES=RESULTS/montecarlo/finite/n{n}_nu{nu:g}.npz bash benchmarks/large_nucleation.sh",
     "benchmarks/results/parent_relax.csv":
         "python benchmarks/bench_parent_relax.py --repeats 7 --baseline BASE --csv benchmarks/results/parent_relax.csv",
     "benchmarks/results/mc_goals_speed_dense.csv":

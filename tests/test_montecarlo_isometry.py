@@ -139,3 +139,56 @@ def test_options_check_the_isometry_fields():
     for name, bad in itertools.product((*FAMILIES, "isometry_link"), (-0.1, 1.5, float("nan"))):
         with pytest.raises(ValueError, match=name):
             MonteCarloOptions(**{name: bad})
+
+
+# The carry: a set grown with cluster_link translated by a cell vector of at most three neighbour
+# steps (kCarryRadius), so that disks and lobes slide a few sites as one.
+
+def carry_vectors(radius=3):
+    """Every non-zero cell vector of at most ``radius`` neighbour steps (the reference set)."""
+    return {(i, j) for i in range(-radius, radius + 1) for j in range(-radius, radius + 1)
+            if 1 <= max(abs(i), abs(j), abs(i + j)) <= radius}
+
+
+def test_carry_vectors_reach_three_steps_and_are_closed_under_negation():
+    """The reference set of the carry's displacements: 3 R (R + 1) = 36 vectors, symmetric, and
+    each is a sum of at most three neighbour vectors and no fewer than its hexagonal distance."""
+    vectors = carry_vectors()
+    assert len(vectors) == 36 and {(-i, -j) for i, j in vectors} == vectors
+    neighbours = [tuple(int(x) for x in d) for d in T.NEIGHBOURS]
+    reach, frontier = {(0, 0): 0}, [(0, 0)]
+    for steps in (1, 2, 3):  # breadth-first: the fewest neighbour steps to each vector
+        frontier = [(a + di, b + dj) for a, b in frontier for di, dj in neighbours if (a + di, b + dj) not in reach]
+        reach.update({v: steps for v in frontier})
+    assert vectors == {v for v, steps in reach.items() if steps >= 1}
+
+
+@pytest.mark.parametrize("box,n,link,delayed", [(4, 3, 0.5, True), (4, 3, 0.8, False), (3, 4, 0.5, True)])
+def test_carry_keeps_the_boltzmann_weights(box, n, link, delayed):
+    """Most moves carries (sets grown with cluster_link, translated up to three steps, which
+    wrap round the small box): the chain samples exp(-E/T) exactly, its sets making and breaking
+    bonds with the rest; isometry_link does not enter."""
+    particle, g = sensitive_particle()
+    states, E = states_of(box, n)
+    mc = kernel_mc(particle, g, box, n, 23, delayed_acceptance=delayed, cluster_link=link, isometry_link=0.01,
+                   carry_moves=0.8)
+    tv_states, tv_levels, z = compare_with_boltzmann(mc, states, E, 0.5 * g, g, 200_000)
+    c = mc.counters
+    assert c["carry_attempted"] == pytest.approx(0.8 * c["attempted"], rel=0.02)
+    assert c["carry_rebonded"] > 500, c
+    assert mc.energy == pytest.approx(mc.box_energy(True), rel=0, abs=1e-12)
+    assert z < 5 and tv_levels < 0.02 and tv_states < 0.06, (tv_states, tv_levels, z)
+
+
+@pytest.mark.parametrize("method,kw", [("linear", {}), ("newton", dict(parent_start=True, parent_factor=True))])
+def test_carry_keeps_the_incremental_bookkeeping(method, kw):
+    """Along an anneal with carries beside the other moves (whole clusters carried rigidly,
+    others joining and leaving), the running energy and bonds equal a recomputation from scratch."""
+    particle, g = sensitive_particle(0.5)
+    box, n = 12, 40
+    mc = kernel_mc(particle, g, box, n, 8, method, tol=1e-7, carry_moves=0.2, shift_moves=0.1, cluster_moves=0.05,
+                   cluster_link=0.9, surface_moves=0.3, **kw)
+    assert_running_totals(mc, particle, box, n, np.linspace(g, 0.1 * g, 8), 400, 1e-9)
+    assert mc.counters["carry_rebonded"] > 10, mc.counters
+    with pytest.raises(ValueError, match="carry_moves"):
+        MonteCarloOptions(carry_moves=1.5)

@@ -4,16 +4,23 @@
 // probability (options.shift_moves, rotation_moves, reflection_moves):
 //   shift:      S translated by one of the six shortest cell vectors (to a neighbouring site);
 //   rotation:   S turned by +60 or -60 degrees about its seed particle's site;
-//   reflection: S mirrored about one of the six mirror axes through its seed's site.
+//   reflection: S mirrored about one of the six mirror axes through its seed's site;
+//   carry:      S, grown with options.cluster_link instead (a disk, a lobe), translated by one of
+//               the kCarryVectors: every cell vector of at most kCarryRadius neighbour steps.
 // Where the cluster move jumps sets across the box, these straighten and compact an aggregate
-// in place: a kinked branch turned back into line, a side arm folded against the body.
+// in place: a kinked branch turned back into line, a side arm folded against the body. A carry
+// moves a whole disk or a lobe a few sites, so that two disks that touch at a corner may slide
+// into contact along a facet, which the cluster move's jumps across the box seldom land them in
+// (it did not make the large box's disks at nu = 0.4 fuse: docs/topics/montecarlo.md, "Why the
+// runs at nu = 0.4 end in rafts").
 //
 // Detailed balance. The forward proposal of S and map G has probability (1/N) F(S) (1 - p)^b
 // P(G), the seed drawn among N particles. Its reverse takes the same particle as seed (G keeps a
 // rotation's or reflection's seed in place; a shift carries it along), grows G(S) with F(G(S)) =
 // F(S) (G keeps the bonds inside S) times (1 - p)^b', and draws G's inverse: -e for a shift e,
 // -60 for +60 degrees, the same mirror for a mirror, each drawn with the same probability as G
-// (uniform over the six vectors, the two senses, the six axes). So the proposal is symmetric up
+// (uniform over the six vectors, the carry's vectors, the two senses, the six axes: each set is
+// closed under negation). So the proposal is symmetric up
 // to (1 - p)^(b' - b), which Metropolis-Hastings takes as in the cluster move. b' counts the
 // bonds from the moved set to the particles that stay, not to the set's old sites: a turned or
 // mirrored set always overlaps its image at the seed, and counting its old sites as occupied is
@@ -53,10 +60,25 @@
 
 namespace pyfrustrate {
 
-enum class IsometryKind { Shift, Rotation, Reflection };
+enum class IsometryKind { Shift, Rotation, Reflection, Carry };
 
 // The six shortest cell vectors: the hexagon's neighbour directions.
 constexpr std::array<LatticeVector, 6> kShortestCellVectors{{{1, 0}, {0, 1}, {-1, 1}, {-1, 0}, {0, -1}, {1, -1}}};
+
+// The carry's displacements: every non-zero cell vector (i, j) of at most kCarryRadius neighbour
+// steps (hexagonal distance max(|i|, |j|, |i + j|)), 3 R (R + 1) of them, closed under negation.
+constexpr int kCarryRadius = 3;
+constexpr std::array<LatticeVector, 3 * kCarryRadius * (kCarryRadius + 1)> carry_vectors() {
+    std::array<LatticeVector, 3 * kCarryRadius * (kCarryRadius + 1)> out{};
+    std::size_t k = 0;
+    for (int i = -kCarryRadius; i <= kCarryRadius; ++i)
+        for (int j = -kCarryRadius; j <= kCarryRadius; ++j) {
+            const int steps = std::max({i < 0 ? -i : i, j < 0 ? -j : j, i + j < 0 ? -(i + j) : i + j});
+            if (steps >= 1 && steps <= kCarryRadius) out[k++] = {i, j};
+        }
+    return out;
+}
+constexpr std::array<LatticeVector, 3 * kCarryRadius * (kCarryRadius + 1)> kCarryVectors = carry_vectors();
 // Point operations (tiling.hpp numbering): rotations by +60 and -60 degrees; the six mirrors.
 constexpr std::array<int, 2> kTurns{1, 5};
 constexpr std::array<int, 6> kMirrors{6, 7, 8, 9, 10, 11};
@@ -120,8 +142,12 @@ inline std::string tiling_symmetry_failure(const Tiling& t, int L, int op) {
 
 template <IsometryKind Kind>
 struct IsometryMove {
-    static constexpr const char* kName =
-        Kind == IsometryKind::Shift ? "shift" : Kind == IsometryKind::Rotation ? "rotation" : "reflection";
+    static constexpr const char* kName = Kind == IsometryKind::Shift      ? "shift"
+                                         : Kind == IsometryKind::Rotation ? "rotation"
+                                         : Kind == IsometryKind::Carry    ? "carry"
+                                                                          : "reflection";
+    // A translation: the set keeps its shape, and a whole cluster landing untouched its energy.
+    static constexpr bool kTranslation = Kind == IsometryKind::Shift || Kind == IsometryKind::Carry;
     struct Counters {
         std::int64_t attempted = 0, accepted = 0;
         std::int64_t rebonded = 0;  // accepted moves that changed the number of bonds
@@ -133,14 +159,19 @@ struct IsometryMove {
         }
     };
     static double probability(const MonteCarloOptions& o) {
-        return Kind == IsometryKind::Shift ? o.shift_moves : Kind == IsometryKind::Rotation ? o.rotation_moves
-                                                                                             : o.reflection_moves;
+        return Kind == IsometryKind::Shift      ? o.shift_moves
+               : Kind == IsometryKind::Rotation ? o.rotation_moves
+               : Kind == IsometryKind::Carry    ? o.carry_moves
+                                                : o.reflection_moves;
     }
+    // The carry moves disks and lobes, grown as the cluster move grows its sets; the others move
+    // local pieces (options.hpp: isometry_link).
+    static double link(const MonteCarloOptions& o) { return Kind == IsometryKind::Carry ? o.cluster_link : o.isometry_link; }
 
     ClusterWorkspace grown;
     int checked_box = 0;  // the box size whose symmetry was checked (0: none yet)
 
-    // The point operations this family draws from (none for shifts).
+    // The point operations this family draws from (none for translations).
     static std::vector<int> operations() {
         if (Kind == IsometryKind::Rotation) return {kTurns.begin(), kTurns.end()};
         if (Kind == IsometryKind::Reflection) return {kMirrors.begin(), kMirrors.end()};
@@ -172,20 +203,21 @@ struct IsometryMove {
         LatticeVector step{0, 0};
         int op = 0;
         if (Kind == IsometryKind::Shift) step = kShortestCellVectors[c.uniform_index(kShortestCellVectors.size())];
+        if (Kind == IsometryKind::Carry) step = kCarryVectors[c.uniform_index(kCarryVectors.size())];
         if (Kind == IsometryKind::Rotation) op = kTurns[c.uniform_index(kTurns.size())];
         if (Kind == IsometryKind::Reflection) op = kMirrors[c.uniform_index(kMirrors.size())];
-        const double link = c.options().isometry_link;
+        const double link = IsometryMove::link(c.options());
         grow_linked_set(c, grown, seed, link, p.from);
         const auto image = [&](int s) {
             const Site x = box.coords(s);
-            if (Kind == IsometryKind::Shift) return box.index({x[0] + step[0], x[1] + step[1], x[2]});
+            if (kTranslation) return box.index({x[0] + step[0], x[1] + step[1], x[2]});
             return box.index(site_at(t, about(op, centre3, site_centre3(t, x))));
         };
-        if (!place_linked_set(c, grown, link, Kind == IsometryKind::Shift, p, image)) return false;
+        if (!place_linked_set(c, grown, link, kTranslation, p, image)) return false;
         // A set the map sends onto itself (a symmetric set turned or mirrored, a fibre shifted
         // along itself) leaves the occupancy as it was: nothing to relax, the chain stays.
         if (std::all_of(p.to.begin(), p.to.end(), [&](int s) { return grown.seen(s); })) return false;
-        p.carries_displacements = Kind == IsometryKind::Shift;
+        p.carries_displacements = kTranslation;
         return true;
     }
 
@@ -201,5 +233,6 @@ struct IsometryMove {
 using ShiftMove = IsometryMove<IsometryKind::Shift>;
 using RotationMove = IsometryMove<IsometryKind::Rotation>;
 using ReflectionMove = IsometryMove<IsometryKind::Reflection>;
+using CarryMove = IsometryMove<IsometryKind::Carry>;
 
 }  // namespace pyfrustrate

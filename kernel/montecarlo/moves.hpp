@@ -14,8 +14,8 @@
 
 namespace pyfrustrate {
 
-using MoveFamilies = std::tuple<OutlineMove, ClusterMove, ShiftMove, RotationMove, ReflectionMove, VacancyMove, SurfaceMove,
-                                ParticleMove>;
+using MoveFamilies = std::tuple<OutlineMove, ClusterMove, ShiftMove, RotationMove, ReflectionMove, CarryMove, VacancyMove,
+                                SurfaceMove, ParticleMove>;
 
 template <class Tuple>
 struct CountersOf;

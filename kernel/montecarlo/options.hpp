@@ -51,6 +51,9 @@ struct MonteCarloOptions {
     double isometry_link = 0.3;
     // Vacancy moves (montecarlo/vacancy_move.hpp): holes filled and dug, off by default.
     double vacancy_moves = 0.0;
+    // The carry (montecarlo/isometry_move.hpp), off by default: a set grown with cluster_link
+    // translated by up to kCarryRadius neighbour steps.
+    double carry_moves = 0.0;
     bool cache = true;        // cache relaxed energies by canonical shape
     bool incremental = true;  // false: re-minimise every cluster of the box on every move
                               // (the naive baseline of the benchmark; no cache either)
@@ -176,6 +179,10 @@ void for_each_option(Options& o, F&& f) {
     f(real("reflection_moves", S::Run, 0, false, 1, false,
            "probability of a reflection move: a linked set mirrored about an axis through its seed particle's site"),
       o.reflection_moves);
+    f(real("carry_moves", S::Run, 0, false, 1, false,
+           "probability of a carry move: a linked set grown with cluster_link (a disk, a lobe) translated by a cell "
+           "vector of at most three neighbour steps"),
+      o.carry_moves);
     f(real("isometry_link", S::Run, 0, false, 1, false,
            "probability of following each bond when growing the set of a shift, rotation or reflection move"),
       o.isometry_link);

@@ -597,6 +597,13 @@ def anneal(particle, *, g=None, Gamma=None, convention="measured", box=60, n=200
         compact aggregates in place. Hexagon tiling only for turns and mirrors (a ``ValueError``
         from the run otherwise).
 
+        ``carry_moves`` in [0, 1] (0 by default): the probability of a carry, a set grown with
+        ``cluster_link`` (a whole disk, or a lobe of a raft) translated by a cell vector of at most
+        three neighbour steps, each of the 36 equally likely, accepted with ``min(1, exp(-dE/T)
+        (1 - cluster_link)**(b' - b))``: meant to slide disks that touch at a corner into contact
+        along a facet (at nu = 0.4 it did not make the large box's disks fuse: the Monte Carlo
+        topic page of the documentation).
+
         ``max_iter``: cap on energy evaluations per L-BFGS relaxation; ``cache``: the cache of
         relaxed energies by shape (speed only).
     checkpoint : path or None
