@@ -51,8 +51,6 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
                                              tiling=p.tiling).Gamma)
     n, box, method, sweeps = p.n, p.box, p.method, p.sweeps
     cluster_moves, cluster_link, bonded_moves, surface_moves = p.cluster_moves, p.cluster_link, p.bonded_moves, p.surface_moves
-    # Named by everything that defines the run, so a changed configuration starts afresh while an
-    # interrupted run of the same configuration resumes.
     collective = getattr(p, "collective", None)  # only the large box's rule passes it
     isometry = {key: collective[key] for key in ("shift_moves", "rotation_moves", "reflection_moves", "isometry_link",
                                                  "vacancy_moves") if key in collective} if collective else {}
@@ -60,17 +58,16 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
     # One chain for both stages: the anneal and the exchange after it make the same moves.
     options = MonteCarloOptions(method=method, tol=p.tol, cluster_moves=cluster_moves, cluster_link=cluster_link,
                                 bonded_moves=bonded_moves, surface_moves=surface_moves, **isometry, **relaxation)
-    # The chain's options hashed into the name as well: a checkpoint written before an option was
-    # added (or by another version's defaults) has another signature, which anneal refuses to
-    # resume, so such a run starts afresh under its own name instead of failing.
-    options_digest = hashlib.sha256(json.dumps(options.signature(), sort_keys=True, default=str).encode()).hexdigest()[:10]
-    checkpoint = (f"{p.checkpoint_stem}_{n}in{box}_{sweeps}sweeps_{method}_tol{p.tol:g}_eps{p.eps:g}"
-                  f"_cm{cluster_moves:g}_link{cluster_link:g}_bonded{bonded_moves:g}_surface{surface_moves:g}"
-                  + "".join(f"_{key}{value:g}" for key, value in isometry.items())
-                  + (f"_window{collective['window'][0]:g}-{collective['window'][1]:g}_dwell{collective['dwell']:g}"
-                     f"_quench{collective['quench']:g}" if collective else "")
-                  + (f"_pf{relaxation['parent_factor_min_particles']}" if relaxation.get("parent_factor") else "")
-                  + f"_{options_digest}.npz")
+    # Named by everything that defines the run, so a changed configuration starts afresh while an
+    # interrupted run of the same configuration resumes: the stem (kind, nu, Gamma, seed), the size
+    # and a digest of the rest (the chain's options, as their signature, and the schedule). A
+    # checkpoint written before an option existed has another signature, which anneal would refuse
+    # to resume; under the digest such a run starts afresh instead of failing. The digest keeps
+    # the name under the file system's 255 bytes, which the options spelled out had passed.
+    defines = dict(options=options.signature(), eps=p.eps, sweeps=sweeps,
+                   schedule={key: collective[key] for key in ("window", "dwell", "quench")} if collective else None)
+    digest = hashlib.sha256(json.dumps(defines, sort_keys=True, default=str).encode()).hexdigest()[:12]
+    checkpoint = f"{p.checkpoint_stem}_{n}in{box}_{sweeps}sweeps_{digest}.npz"
     chain = dict(g=g, box=box, n=n, seed=p.seed, options=options, progress=True)
     schedule = dict(steps=n * sweeps)
     if collective:
