@@ -17,7 +17,8 @@ the swaps carry it down. The run's result is then the coldest replica after its 
 the anneal's own energy and bonds are kept as anneal_energy and anneal_bonds.
 
 The large box's runs (rule montecarlo_large_run) get a `collective` param: collective isometry
-moves (shift_moves, rotation_moves, reflection_moves, isometry_link) and, in place of the linear
+moves (shift_moves, rotation_moves, reflection_moves, isometry_link), vacancy moves (vacancy_moves:
+holes filled and dug) and, in place of the linear
 schedule, pyfrustrate.montecarlo.window_schedule from g through the reshaping window (`window`, in
 units of g; `dwell` and `quench` the fractions of the sweeps there and at T = 0), and after the
 schedule a descent at T = 0 in rounds of `descent_sweeps` sweeps until a round gains less than a
@@ -52,12 +53,13 @@ with logging_to(snakemake.log[0]), sigterm_raises():  # noqa: F821
     n, box, method, sweeps = p.n, p.box, p.method, p.sweeps
     cluster_moves, cluster_link, bonded_moves, surface_moves = p.cluster_moves, p.cluster_link, p.bonded_moves, p.surface_moves
     collective = getattr(p, "collective", None)  # only the large box's rule passes it
-    isometry = {key: collective[key] for key in ("shift_moves", "rotation_moves", "reflection_moves", "isometry_link",
-                                                 "vacancy_moves") if key in collective} if collective else {}
+    collective_moves = {key: collective[key] for key in ("shift_moves", "rotation_moves", "reflection_moves",
+                                                         "isometry_link", "vacancy_moves") if key in collective
+                        } if collective else {}
     relaxation = dict(getattr(p, "relaxation", None) or {})  # only the large box's rule passes it (parent_factor)
     # One chain for both stages: the anneal and the exchange after it make the same moves.
     options = MonteCarloOptions(method=method, tol=p.tol, cluster_moves=cluster_moves, cluster_link=cluster_link,
-                                bonded_moves=bonded_moves, surface_moves=surface_moves, **isometry, **relaxation)
+                                bonded_moves=bonded_moves, surface_moves=surface_moves, **collective_moves, **relaxation)
     # Named by everything that defines the run, so a changed configuration starts afresh while an
     # interrupted run of the same configuration resumes: the stem (kind, nu, Gamma, seed), the size
     # and a digest of the rest (the chain's options, as their signature, and the schedule). A
