@@ -69,17 +69,19 @@ def main(diagram_path, continuum_path, snapshot_paths, finite_paths, dense, swee
     plotting.size_colorbars(fig, images, (14.6, diagram_bottom, DIAGRAM_CM - 0.45))
 
     offsets: dict = {}
-    labelled: list = []
+    below: dict = {}  # point -> its label goes below its symbol
     for k, (r, kind) in enumerate(zip(runs, kinds), start=1):
         point = (float(r["Gamma_measured"]), float(r["nu"]))
         shift = offsets.get(point, 0)
         offsets[point] = shift + 1
-        # A neighbour within a label's width on the same row: this label goes below its symbol.
-        crowded = any(0 < abs(point[0] - q[0]) < 0.08 and q[1] == point[1] for q in labelled)
-        labelled.append(point)
+        # Neighbours within a label's width on the same row: the label goes to the other side of
+        # its symbol from the nearest one's, so that a row of close symbols alternates.
+        crowded = [q for q in below if 0 < abs(point[0] - q[0]) < 0.08 and q[1] == point[1]]
+        if point not in below:
+            below[point] = bool(crowded) and not below[min(crowded, key=lambda q: abs(point[0] - q[0]))]
         ax_b.plot(*point, BOX_MARKERS[kind][0], ms=5 if kind == "sparse" else 4.5, mfc="w", mec="k", mew=0.7, zorder=6)
-        ax_b.annotate(str(k), point, xytext=(4 + 6 * shift, -11 if crowded else 3), textcoords="offset points", fontsize=7,
-                      color="w", fontweight="normal", zorder=7)
+        ax_b.annotate(str(k), point, xytext=(4 + 6 * shift, -11 if below[point] else 3), textcoords="offset points",
+                      fontsize=7, color="w", fontweight="normal", zorder=7)
 
     fig.text(0.1 / WIDTH_CM, (snap_top + 0.1) / height,
              "Monte Carlo snapshots at the symbols of (b).   $\\Delta E$: final energy above the best single aggregate, "
