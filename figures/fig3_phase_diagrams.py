@@ -23,6 +23,40 @@ SNAPSHOT_CM, SNAPSHOT_GAP_CM, DIAGRAM_CM = 2.75, 0.55, 5.2
 NOTE_CM = 0.6  # two lines of 6 pt text under a snapshot
 
 
+
+#: Where a symbol's number may go, in points from the symbol: right above, right below, left
+#: above, left below.
+LABEL_OFFSETS_PT = ((4, 3), (4, -11), (-11, 3), (-11, -11))
+
+
+def label_symbols(ax, symbols):
+    """Draw the numbered run symbols of panel (b), 1, 2, ... in order: each number goes to the
+    first of ``LABEL_OFFSETS_PT`` where it overlaps no number already placed and no symbol (boxes
+    estimated in points at 7 pt: 4.2 pt per digit, 7 pt high; a symbol 6 pt wide), so that rows of
+    close symbols stay readable at the paper's density; symbols repeated at one point (seeds) put
+    their numbers side by side."""
+    to_points = ax.transData + ax.figure.dpi_scale_trans.inverted()  # data -> inches
+    centres = [np.asarray(to_points.transform(point)) * 72 for point, _ in symbols]
+    markers = [(c[0] - 3, c[1] - 3, c[0] + 3, c[1] + 3) for c in centres]
+    placed, seen = [], {}
+    for k, ((point, kind), centre) in enumerate(zip(symbols, centres), start=1):
+        ax.plot(*point, BOX_MARKERS[kind][0], ms=5 if kind == "sparse" else 4.5, mfc="w", mec="k", mew=0.7, zorder=6)
+        repeat = seen.get(point, 0)
+        seen[point] = repeat + 1
+        width = 4.2 * len(str(k))
+
+        def box(offset):
+            x, y = centre[0] + offset[0] + 6 * repeat, centre[1] + offset[1]
+            return x, y, x + width, y + 7
+
+        def clear(b):
+            return not any(b[0] < o[2] and o[0] < b[2] and b[1] < o[3] and o[1] < b[3] for o in placed + markers)
+
+        offset = next((o for o in LABEL_OFFSETS_PT if clear(box(o))), LABEL_OFFSETS_PT[0])
+        placed.append(box(offset))
+        ax.annotate(str(k), point, xytext=(offset[0] + 6 * repeat, offset[1]), textcoords="offset points", fontsize=7,
+                    color="w", fontweight="normal", zorder=7)
+
 def run_title(k, run, convention):
     nu, G = float(run["nu"]), float(run["Gamma"])
     seed = f", seed {int(run['seed'])}" if int(run["seed"]) != 1 else ""
@@ -68,20 +102,7 @@ def main(diagram_path, continuum_path, snapshot_paths, finite_paths, dense, swee
     plotting.phase_legend(ax_a, phases, dashed_continuum=True, ncol=6, bbox_to_anchor=(1.13, 1.07))
     plotting.size_colorbars(fig, images, (14.6, diagram_bottom, DIAGRAM_CM - 0.45))
 
-    offsets: dict = {}
-    below: dict = {}  # point -> its label goes below its symbol
-    for k, (r, kind) in enumerate(zip(runs, kinds), start=1):
-        point = (float(r["Gamma_measured"]), float(r["nu"]))
-        shift = offsets.get(point, 0)
-        offsets[point] = shift + 1
-        # Neighbours within a label's width on the same row: the label goes to the other side of
-        # its symbol from the nearest one's, so that a row of close symbols alternates.
-        crowded = [q for q in below if 0 < abs(point[0] - q[0]) < 0.08 and q[1] == point[1]]
-        if point not in below:
-            below[point] = bool(crowded) and not below[min(crowded, key=lambda q: abs(point[0] - q[0]))]
-        ax_b.plot(*point, BOX_MARKERS[kind][0], ms=5 if kind == "sparse" else 4.5, mfc="w", mec="k", mew=0.7, zorder=6)
-        ax_b.annotate(str(k), point, xytext=(4 + 6 * shift, -11 if below[point] else 3), textcoords="offset points",
-                      fontsize=7, color="w", fontweight="normal", zorder=7)
+    label_symbols(ax_b, [((float(r["Gamma_measured"]), float(r["nu"])), kind) for r, kind in zip(runs, kinds)])
 
     fig.text(0.1 / WIDTH_CM, (snap_top + 0.1) / height,
              "Monte Carlo snapshots at the symbols of (b).   $\\Delta E$: final energy above the best single aggregate, "
