@@ -31,8 +31,8 @@ LABEL_OFFSETS_PT = ((4, 3), (4, -11), (-11, 3), (-11, -11))
 
 def label_symbols(ax, symbols):
     """Draw the numbered run symbols of panel (b), 1, 2, ... in order: each number goes to the
-    first of ``LABEL_OFFSETS_PT`` where it overlaps no number already placed and no symbol (boxes
-    estimated in points at 7 pt: 4.2 pt per digit, 7 pt high; a symbol 6 pt wide), so that rows of
+    first of ``LABEL_OFFSETS_PT`` where it comes no closer than a gap to a number already placed or
+    a symbol (boxes estimated in points at 7 pt: 4.2 pt per digit, 7 pt high; a symbol 6 pt wide), so that rows of
     close symbols stay readable at the paper's density; symbols repeated at one point (seeds) put
     their numbers side by side."""
     to_points = ax.transData + ax.figure.dpi_scale_trans.inverted()  # data -> inches
@@ -49,8 +49,8 @@ def label_symbols(ax, symbols):
             x, y = centre[0] + offset[0] + 6 * repeat, centre[1] + offset[1]
             return x, y, x + width, y + 7
 
-        def clear(b):
-            return not any(b[0] < o[2] and o[0] < b[2] and b[1] < o[3] and o[1] < b[3] for o in placed + markers)
+        def clear(b, gap=2.5):  # numbers closer than a gap read as one number ("123")
+            return not any(b[0] - gap < o[2] and o[0] < b[2] + gap and b[1] < o[3] and o[1] < b[3] for o in placed + markers)
 
         offset = next((o for o in LABEL_OFFSETS_PT if clear(box(o))), LABEL_OFFSETS_PT[0])
         placed.append(box(offset))
