@@ -24,15 +24,15 @@ NOTE_CM = 0.6  # two lines of 6 pt text under a snapshot
 
 
 
-#: Where a symbol's number may go, in points from the symbol: right above, right below, left
-#: above, left below.
-LABEL_OFFSETS_PT = ((4, 3), (4, -11), (-11, 3), (-11, -11))
+#: Where a symbol's number may go, in points from the symbol, in order of preference: right of
+#: it, right above, right below, left above, left below, left of it.
+LABEL_OFFSETS_PT = ((4, -3.5), (4, 3), (4, -11), (-11, 3), (-11, -11), (-11, -3.5))
 
 
 def label_symbols(ax, symbols):
     """Draw the numbered run symbols of panel (b), 1, 2, ... in order: each number goes to the
     first of ``LABEL_OFFSETS_PT`` where it comes no closer than a gap to a number already placed or
-    a symbol (boxes estimated in points at 7 pt: 4.2 pt per digit, 7 pt high; a symbol 6 pt wide), so that rows of
+    a symbol (else where it clashes with fewest) (boxes estimated in points at 7 pt: 4.2 pt per digit, 7 pt high; a symbol 6 pt wide), so that rows of
     close symbols stay readable at the paper's density; symbols repeated at one point (seeds) put
     their numbers side by side."""
     to_points = ax.transData + ax.figure.dpi_scale_trans.inverted()  # data -> inches
@@ -49,10 +49,11 @@ def label_symbols(ax, symbols):
             x, y = centre[0] + offset[0] + 6 * repeat, centre[1] + offset[1]
             return x, y, x + width, y + 7
 
-        def clear(b, gap=2.5):  # numbers closer than a gap read as one number ("123")
-            return not any(b[0] - gap < o[2] and o[0] < b[2] + gap and b[1] < o[3] and o[1] < b[3] for o in placed + markers)
+        def clashes(b, gap=2.5):  # numbers closer than a gap read as one number ("123"); symbols: no overlap
+            return sum(b[0] - g < o[2] and o[0] < b[2] + g and b[1] < o[3] and o[1] < b[3]
+                       for others, g in ((placed, gap), (markers, 0.0)) for o in others)
 
-        offset = next((o for o in LABEL_OFFSETS_PT if clear(box(o))), LABEL_OFFSETS_PT[0])
+        offset = min(LABEL_OFFSETS_PT, key=lambda o: clashes(box(o)))  # the first clear one, else the least crowded
         placed.append(box(offset))
         ax.annotate(str(k), point, xytext=(offset[0] + 6 * repeat, offset[1]), textcoords="offset points", fontsize=7,
                     color="w", fontweight="normal", zorder=7)
