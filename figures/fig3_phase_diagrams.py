@@ -22,8 +22,6 @@ WIDTH_CM, COLS = plotting.PAGE_WIDTH_CM, 5
 SNAPSHOT_CM, SNAPSHOT_GAP_CM, DIAGRAM_CM = 2.75, 0.55, 5.2
 NOTE_CM = 0.6  # two lines of 6 pt text under a snapshot
 
-
-
 #: Where a symbol's number may go, in points from the symbol, in order of preference: right of
 #: it, right above, right below, left above, left below, left of it.
 LABEL_OFFSETS_PT = ((4, -3.5), (4, 3), (4, -11), (-11, 3), (-11, -11), (-11, -3.5))
@@ -31,10 +29,10 @@ LABEL_OFFSETS_PT = ((4, -3.5), (4, 3), (4, -11), (-11, 3), (-11, -11), (-11, -3.
 
 def label_symbols(ax, symbols):
     """Draw the numbered run symbols of panel (b), 1, 2, ... in order: each number goes to the
-    first of ``LABEL_OFFSETS_PT`` where it comes no closer than a gap to a number already placed or
-    a symbol (else where it clashes with fewest) (boxes estimated in points at 7 pt: 4.2 pt per digit, 7 pt high; a symbol 6 pt wide), so that rows of
-    close symbols stay readable at the paper's density; symbols repeated at one point (seeds) put
-    their numbers side by side."""
+    first of ``LABEL_OFFSETS_PT`` where it keeps a gap from the numbers already placed and covers no
+    symbol, else where it clashes with fewest (boxes estimated in points at 7 pt: 4.2 pt per digit,
+    7 pt high; a symbol 6 pt wide), so that rows of close symbols stay readable at the paper
+    profile's density; symbols repeated at one point (seeds) put their numbers side by side."""
     to_points = ax.transData + ax.figure.dpi_scale_trans.inverted()  # data -> inches
     centres = [np.asarray(to_points.transform(point)) * 72 for point, _ in symbols]
     markers = [(c[0] - 3, c[1] - 3, c[0] + 3, c[1] + 3) for c in centres]
@@ -57,6 +55,7 @@ def label_symbols(ax, symbols):
         placed.append(box(offset))
         ax.annotate(str(k), point, xytext=(offset[0] + 6 * repeat, offset[1]), textcoords="offset points", fontsize=7,
                     color="w", fontweight="normal", zorder=7)
+
 
 def run_title(k, run, convention):
     nu, G = float(run["nu"]), float(run["Gamma"])
