@@ -85,24 +85,38 @@ def hollow_markers_explained(mc, n):
 
 def fused_runs_explained(mc, n):
     """Caption lines on the runs within the criterion that end in fused disks, or that the classifier
-    calls fibres, where the best single aggregate of ``n`` is compact: their energy against the best
-    single aggregate (``gap``) and against the box's predicted ground state (``gap_ground``), which
-    says whether the prediction or the marker is at fault."""
+    calls fibres, where the best single aggregate of ``n`` is compact, one line per group (the shape
+    read, and whether the run lies below that aggregate): where (nu, Gamma), how far from that
+    aggregate (``gap``) and from the box's predicted ground state (``gap_ground``). A run below the
+    best compact aggregate holds a shape that family lacks (the prediction, not the marker, says so);
+    one above it may be a wrong prediction, so that line does not excuse it."""
     fused = (mc["gap_ground"] <= EQUILIBRATED_GAP) & merged_where_compact(mc)
+    named = mc["kind"] == "fused_disks"
+    below = mc["gap"] < 0
     lines = []
-    for k in np.flatnonzero(fused):
-        below = mc["gap"][k] < 0
-        named = mc["kind"][k] == "fused_disks"
-        called, shape = (("ends in disks fused by necks", "the fused disks are a shape")
-                         if named else ("is called a fibre", "its shape is one"))
-        lines.append(
-            f"The run within the criterion at ν = {mc['nu'][k]:g}, Γ = {mc['Gamma'][k]:g} {called} where the best "
-            f"single aggregate of {n} is compact{'' if named else ' (asterisk)'}: it ends {abs(mc['gap'][k]):.1f} bulk "
-            f"particle energies {'below' if below else 'above'} that aggregate and {mc['gap_ground'][k]:.1f} above the "
-            f"box's predicted ground state, {plotting.structure_label(str(mc['ground_family'][k]))}"
-            + (f": below the best compact aggregate, so {shape} that family lacks and the marker reads that shape, "
-               "not a wrong prediction." if below else "."))
+    for is_named in (True, False):
+        for is_below in (True, False):
+            group = np.flatnonzero(fused & (named == is_named) & (below == is_below))
+            if not len(group):
+                continue
+            called = "end in disks fused by necks" if is_named else "are called fibres (asterisk)"
+            gap, ground = np.abs(mc["gap"][group]), mc["gap_ground"][group]
+            families = sorted({plotting.structure_label(str(mc["ground_family"][k])) for k in group})
+            places = ", ".join(f"({mc['nu'][k]:g}, {mc['Gamma'][k]:g})" for k in group)
+            count = "One run" if len(group) == 1 else f"{len(group)} runs"
+            lines.append(
+                f"{count} within the criterion {called} where the best single aggregate of {n} is compact, at (ν, Γ) = "
+                f"{places}: {_span(gap)} bulk particle energies {'below' if is_below else 'above'} that aggregate and "
+                f"{_span(ground)} above the box's predicted ground state (predicted: {', '.join(families)})"
+                + (": below the best compact aggregate, so the marker reads a shape that family lacks, not a wrong "
+                   "prediction." if is_below else "."))
     return lines
+
+
+def _span(values):
+    """'1.2' or '-0.8 to 4.5': the range of a group's values, to one decimal."""
+    low, high = f"{float(np.min(values)):.1f}", f"{float(np.max(values)):.1f}"
+    return low if low == high else f"{low} to {high}"
 
 
 def protocol(mc, n):
@@ -147,10 +161,13 @@ def main(mc_path, diagram_path, continuum_path, outputs, provenance=None, summar
         stuck = gap > EQUILIBRATED_GAP
         ax.plot(G, nu, MARKERS[str(kind)], ms=7, mfc="w" if stuck else color, mec=color if stuck else "k",
                 mew=1.4 if stuck else 0.8, zorder=6)
-        ax.annotate(f"{size}" + ("*" if flag else ""), (G, nu), xytext=(5, -9), textcoords="offset points",
-                    fontsize=6, zorder=7)
+        # The size only where it says something: a largest aggregate short of all n particles.
+        label = (f"{size}" if size < n else "") + ("*" if flag else "")
+        if label:
+            ax.annotate(label, (G, nu), xytext=(5, -9), textcoords="offset points", fontsize=6, zorder=7)
     handles = [Line2D([], [], marker=m, ls="", mfc=plotting.PHASE_COLORS.get(k, "0.5"), mec="k",
-                      label=plotting.PHASE_LABELS.get(k, k)) for k, m in MARKERS.items()]
+                      label=plotting.PHASE_LABELS.get(k, k)) for k, m in MARKERS.items()
+               if k in set(mc["kind"].astype(str))]  # a key to what is drawn, not to every kind there is
     handles.append(Line2D([], [], marker="o", ls="", mfc="w", mec="0.3", mew=1.4,
                           label=f"ended > {EQUILIBRATED_GAP:g} bulk particle\nenergies above the box's\n"
                                 "predicted ground state"))
