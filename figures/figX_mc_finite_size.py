@@ -7,12 +7,15 @@ and a larger one at the same density; lines: the best single aggregate of exactl
 (ansatz.finite_aggregates, relaxed compact-to-elongated shapes) and the continuum fibre width
 W*(Gamma) (Eq. 11). A fibre of width W* needs about n > 3 W*^2 / (sqrt(3)/2) particles to be
 longer than wide; below that the best aggregate is compact.
-(c) Snapshots of the larger box: the fibre scan and the nu scan at fixed Gamma, each with its
-final energy above the best single aggregate of the same n (a measure of how far annealing got).
+(c) Snapshots of the larger box: the fibre scan and the nu scan at fixed Gamma, each with the
+structure of its largest aggregate (ground_states.aggregate_structure: a fibre's width in rows, as
+the large runs are judged) and its final energy above the best single aggregate of the same n (a
+measure of how far annealing got).
 """
 import numpy as np
 
 from pyfrustrate import continuum, plotting
+from pyfrustrate.ground_states import aggregate_structure
 from pyfrustrate.io import load_npz, logging_to
 from pyfrustrate.provenance import for_job
 from pyfrustrate.montecarlo import clusters
@@ -23,6 +26,18 @@ def largest_aggregate(run):
     box = int(run["box"])
     coords, rank = clusters(run["sites"], box)[0]
     return coords, rank
+
+
+def largest_aggregate_words(run):
+    """The largest aggregate of a run as the large runs are judged (ground_states.aggregate_structure):
+    "fibre, 9 rows" (the strip of as many particles and exposed sides: a bent fibre reads its arms'
+    width, where the gyration extent reads the bend's span), "3 fused disks", "disk"."""
+    _, kind, size = aggregate_structure(run["sites"], int(run["box"]))
+    if kind == "fiber":
+        return f"fibre, {size:.0f} rows"
+    if kind == "fused_disks":
+        return f"{size} fused disks"
+    return plotting.PHASE_LABELS.get(kind, kind)
 
 
 def main(run_paths, finite_paths, outputs, provenance=None):
@@ -92,12 +107,11 @@ def main(run_paths, finite_paths, outputs, provenance=None):
         sub.set_ylim(centre[1] - half * max(aspect, 1), centre[1] + half * max(aspect, 1))
         sub.set_xticks([])
         sub.set_yticks([])
-        w, l = gyration_dimensions(coords)
         wrap = ", wraps" if rank else ""
         gap = plotting.gap_to_best_single(r, finite)
         gap = "" if gap is None else rf", $\Delta E$ = {gap:+.0f} $e_{{\rm bulk}}$"
         sub.set_title(rf"$\Gamma$ = {float(r['Gamma']):g}, $\nu$ = {float(r['nu']):g}" "\n"
-                      rf"$W$ = {w:.0f}, $L$ = {l:.0f}{wrap}{gap}")
+                      f"{largest_aggregate_words(r)}{wrap}{gap}")
     if large:
         sub0 = fig.axes[2]
         plotting.panel_label(sub0, "c", dy_pt=22)

@@ -787,7 +787,7 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     if not bulk_energy > 0:
         raise ValueError(f"bulk_energy must be positive, got {bulk_energy!r}")
     best = int(candidates.best(g))
-    own, predicted = _structure_of(sites, box), _structure_of(candidates.sites[best], box)
+    own, predicted = aggregate_structure(sites, box), aggregate_structure(candidates.sites[best], box)
     (count, kind, size), (count_predicted, kind_predicted, size_predicted) = own, predicted
     fibres = kind == kind_predicted == "fiber"
     fused = kind == kind_predicted == "fused_disks"
@@ -807,7 +807,7 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     excess = (candidates.total(g) - candidates.best_energy(g)) / bulk_energy
     within = np.flatnonzero(excess <= gate + 1e-12)
     verdict["candidates_within_gate"] = int(len(within))
-    verdict["structure_within_gate"] = any(_same_structure(own, _structure_of(candidates.sites[k], box))
+    verdict["structure_within_gate"] = any(_same_structure(own, aggregate_structure(candidates.sites[k], box))
                                            for k in within)
     # Below every candidate: the run found a state the prediction's finite family misses, and
     # then the prediction, not the run, is what fails the structure.
@@ -815,9 +815,35 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     return verdict
 
 
-def _structure_of(sites, box) -> tuple[int, str, float | int | None]:
-    """What ``structure_verdict`` compares: aggregate count, kind of the largest, and its size: its
-    width in rows if it is a fibre, the number of disks if it is disks fused by necks (else None)."""
+def aggregate_structure(sites, box) -> tuple[int, str, float | int | None]:
+    """What ``structure_verdict`` compares, for one box configuration: how many aggregates, the
+    kind of the largest and its size.
+
+    Parameters
+    ----------
+    sites : array_like of int, shape (n, 2)
+        Occupied sites.
+    box : int
+        Box side.
+
+    Returns
+    -------
+    count : int
+        Aggregates (``aggregate_count`` of ``structure``).
+    kind : str
+        Kind of the largest cluster (``aggregate_kind``).
+    size : float, int or None
+        For a fibre its width in rows (``width_in_rows``); for disks fused by necks the number of
+        disks they join (``montecarlo.analysis.compact_lobes``); else None.
+
+    Examples
+    --------
+    >>> from pyfrustrate.ground_states import aggregate_structure
+    >>> strip = [(i, r) for r in range(3) for i in range(30)]  # 3 rows wrapping a 30-box
+    >>> count, kind, rows = aggregate_structure(strip, 30)
+    >>> count, kind, round(rows, 6)
+    (1, 'fiber', 3.0)
+    """
     from .montecarlo.analysis import clusters, compact_lobes
     kind = str(aggregate_kind(sites, box))
     size = None

@@ -9,8 +9,8 @@ against itself.
 import numpy as np
 import pytest
 
-from pyfrustrate.ground_states import (EQUILIBRATED_GAP, GATE_BONDS, BoxCandidates, box_bonds, structure_verdict,
-                                       width_in_rows)
+from pyfrustrate.ground_states import (EQUILIBRATED_GAP, GATE_BONDS, BoxCandidates, aggregate_structure, box_bonds,
+                                       structure_verdict, width_in_rows)
 
 BOX = 40
 
@@ -95,6 +95,16 @@ def test_fused_disks_match_only_with_as_many_disks():
     three = structure_verdict(fused_chain(3), BOX, c, g, ground, bulk)
     assert (three["count_ok"], three["kind"], three["lobes"], three["lobes_predicted"]) == (True, "fused_disks", 3, 2)
     assert not three["lobes_ok"] and not three["structure_match"]
+
+
+def test_aggregate_structure_reads_count_kind_and_size_of_shapes_built_by_hand():
+    # What figX_mc_finite_size writes over its snapshots: a bent fibre by its arms' rows (the
+    # gyration extent would read the bend's span), fused disks by how many disks, a disk by kind.
+    count, kind, rows_read = aggregate_structure(bent(6, 60), 200)
+    assert (count, kind) == (1, "fiber") and rows_read == pytest.approx(6, abs=0.25)
+    assert aggregate_structure(fused_chain(3), BOX) == (1, "fused_disks", 3)
+    blob = rows(3, 3, i0=2, j0=30)  # 9 particles, far from the disk: a second aggregate
+    assert aggregate_structure(np.vstack([disk(4, 20, 12), blob]), BOX) == (2, "disk", None)
 
 
 def test_the_prediction_judged_against_itself_matches_with_no_gap():
