@@ -155,10 +155,14 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     for k in range(len(scale["seed"])):
         at = (round(float(scale["nu"][k]), 9), round(float(scale["Gamma"][k]), 9))
         fields = {key: scale[f"verdict_{key}"][k].item() for key in VERDICT_FIELDS}
+        fields = {key: None if isinstance(v, float) and np.isnan(v) else v for key, v in fields.items()}
+        # A count of disks went through the npz as a float column (NaN where not fused disks).
+        for key in ("lobes", "lobes_predicted"):
+            fields[key] = None if fields[key] is None else int(fields[key])
         large_runs.append(dict(scans=[s for s, nu, G in p.large_points if (round(nu, 9), round(G, 9)) == at],
                                nu=at[0], Gamma=at[1], seed=int(scale["seed"][k]), n=int(scale["n"][k]),
                                gap=float(scale["gap_ground"][k]), cpu_seconds=float(scale["cpu_seconds"][k]),
-                               **{key: None if isinstance(v, float) and np.isnan(v) else v for key, v in fields.items()}))
+                               **fields))
     cpu_seconds = [r["cpu_seconds"] for r in large_runs if np.isfinite(r["cpu_seconds"])]
     large_summary = dict(runs=len(large_runs), structure_match=sum(r["structure_match"] for r in large_runs),
                          gap_ok=sum(r["gap_ok"] for r in large_runs),
