@@ -56,23 +56,30 @@ def ground_label(scale, k):
 
 def verdict_text(scale, k):
     """A run's structure, the prediction's in brackets where it differs: e.g. "1 fibre, 9 rows (8)",
-    "2 disks (1)", "fused disks (4 disks)": one cluster, where four separate disks are predicted,
-    "6 fused disks (4)": six disks joined by necks, where four are predicted."""
+    "2 disks (1)", "6 fused disks (4)": six disks joined by necks where four are predicted,
+    "3 fused disks (1 disk)": where one disk is predicted."""
+
+    def words(kind, count, width, lobes):
+        if np.isfinite(lobes) and count == 1:
+            return f"{int(lobes)} fused disks"
+        return kind_words(kind, count) + (f", {width:.0f} rows" if np.isfinite(width) else "")
+
+    def value(name):  # NaN where the npz has no such column (runs judged before it existed)
+        return float(scale[name][k]) if name in scale else np.nan
+
     count, kind = int(scale["verdict_count"][k]), str(scale["verdict_kind"][k])
-    text = kind_words(kind, count)
-    predicted, count_predicted = [], int(scale["verdict_count_predicted"][k])
-    if count_predicted != count:
-        predicted.append(str(count_predicted))
-    if kind != str(scale["verdict_kind_predicted"][k]):
-        predicted = [kind_words(scale["verdict_kind_predicted"][k], count_predicted)]
-    width = float(scale["verdict_width"][k])
-    if np.isfinite(width):
-        text += f", {width:.0f} rows ({float(scale['verdict_width_predicted'][k]):.0f})"
-    lobes = float(scale["verdict_lobes"][k]) if "verdict_lobes" in scale else np.nan
-    if np.isfinite(lobes):  # fused disks, as predicted: how many disks, the prediction's in brackets
-        predicted_lobes = int(scale["verdict_lobes_predicted"][k])
-        text = f"{int(lobes)} fused disks" + (f" ({predicted_lobes})" if predicted_lobes != int(lobes) else "")
-    return text + (f" ({' '.join(predicted)})" if predicted else "")
+    count_predicted, kind_predicted = int(scale["verdict_count_predicted"][k]), str(scale["verdict_kind_predicted"][k])
+    width, lobes = value("verdict_width"), value("verdict_lobes")
+    width_predicted, lobes_predicted = value("verdict_width_predicted"), value("verdict_lobes_predicted")
+    text = words(kind, count, width, lobes)
+    if kind != kind_predicted:
+        return f"{text} ({words(kind_predicted, count_predicted, width_predicted, lobes_predicted)})"
+    # Same kind: only what differs in brackets, the count first, then the size.
+    if np.isfinite(lobes) and np.isfinite(lobes_predicted) and int(lobes) != int(lobes_predicted):
+        return f"{text} ({int(lobes_predicted)})"
+    if np.isfinite(width) and np.isfinite(width_predicted):
+        text = f"{kind_words(kind, count)}, {width:.0f} rows ({width_predicted:.0f})"
+    return text + (f" ({count_predicted})" if count_predicted != count else "")
 
 
 def main(scale_path, run_paths, points, outputs, provenance=None):

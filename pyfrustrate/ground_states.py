@@ -766,8 +766,9 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     -------
     dict
         ``count``, ``count_predicted``, ``kind``, ``kind_predicted``, ``width``,
-        ``width_predicted`` (rows; None unless both are fibres), ``lobes``, ``lobes_predicted``
-        (disks joined; None unless both are fused disks), ``gap`` and ``gap_gate`` (bulk
+        ``width_predicted`` (rows, where that side is a fibre, else None), ``lobes``,
+        ``lobes_predicted`` (disks joined, where that side is fused disks, else None; sizes are
+        judged only where both sides are of that kind), ``gap`` and ``gap_gate`` (bulk
         energies), ``count_ok``, ``kind_ok``, ``width_ok``, ``lobes_ok``, ``gap_ok``,
         ``structure_match``,
         ``candidates_within_gate`` (how many candidates lie within the gate of the prediction,
@@ -791,15 +792,17 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     (count, kind, size), (count_predicted, kind_predicted, size_predicted) = own, predicted
     fibres = kind == kind_predicted == "fiber"
     fused = kind == kind_predicted == "fused_disks"
-    # Only fibres are judged by their width, fused disks by how many disks they join.
-    width, width_predicted = (size, size_predicted) if fibres else (None, None)
-    lobes, lobes_predicted = (size, size_predicted) if fused else (None, None)
+    # Each side's size is reported for its own kind (a fibre's rows, fused disks' count), and
+    # judged only where both are of that kind.
+    width, width_predicted = (size if kind == "fiber" else None), (size_predicted if kind_predicted == "fiber" else None)
+    lobes = size if kind == "fused_disks" else None
+    lobes_predicted = size_predicted if kind_predicted == "fused_disks" else None
     gap = (float(energy) - float(candidates.best_energy(g))) / bulk_energy
     gate = max(EQUILIBRATED_GAP, GATE_BONDS * float(g) / bulk_energy)
     verdict = dict(count=count, count_predicted=count_predicted, kind=str(kind), kind_predicted=str(kind_predicted),
                    width=width, width_predicted=width_predicted, lobes=lobes, lobes_predicted=lobes_predicted,
                    gap=gap, gap_gate=gate, count_ok=count == count_predicted, kind_ok=kind == kind_predicted,
-                   width_ok=not fibres or _same_width(width, width_predicted), lobes_ok=lobes == lobes_predicted,
+                   width_ok=not fibres or _same_width(width, width_predicted), lobes_ok=not fused or lobes == lobes_predicted,
                    gap_ok=gap <= gate)
     verdict["structure_match"] = all(verdict[f"{part}_ok"] for part in ("count", "kind", "width", "lobes"))
     # The candidates the gate cannot tell from the prediction (the prediction among them): is the
