@@ -78,7 +78,7 @@ def verdict_text(scale, k):
     if np.isfinite(lobes) and np.isfinite(lobes_predicted) and int(lobes) != int(lobes_predicted):
         return f"{text} ({int(lobes_predicted)})"
     if np.isfinite(width) and np.isfinite(width_predicted):
-        text = f"{kind_words(kind, count)}, {width:.0f} rows ({width_predicted:.0f})"
+        text += f" ({width_predicted:.0f})"
     return text + (f" ({count_predicted})" if count_predicted != count else "")
 
 

@@ -794,7 +794,8 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     fused = kind == kind_predicted == "fused_disks"
     # Each side's size is reported for its own kind (a fibre's rows, fused disks' count), and
     # judged only where both are of that kind.
-    width, width_predicted = (size if kind == "fiber" else None), (size_predicted if kind_predicted == "fiber" else None)
+    width = size if kind == "fiber" else None
+    width_predicted = size_predicted if kind_predicted == "fiber" else None
     lobes = size if kind == "fused_disks" else None
     lobes_predicted = size_predicted if kind_predicted == "fused_disks" else None
     gap = (float(energy) - float(candidates.best_energy(g))) / bulk_energy
@@ -802,7 +803,8 @@ def structure_verdict(sites, box, candidates: BoxCandidates, g: float, energy: f
     verdict = dict(count=count, count_predicted=count_predicted, kind=str(kind), kind_predicted=str(kind_predicted),
                    width=width, width_predicted=width_predicted, lobes=lobes, lobes_predicted=lobes_predicted,
                    gap=gap, gap_gate=gate, count_ok=count == count_predicted, kind_ok=kind == kind_predicted,
-                   width_ok=not fibres or _same_width(width, width_predicted), lobes_ok=not fused or lobes == lobes_predicted,
+                   width_ok=not fibres or _same_width(width, width_predicted),
+                   lobes_ok=not fused or lobes == lobes_predicted,
                    gap_ok=gap <= gate)
     verdict["structure_match"] = all(verdict[f"{part}_ok"] for part in ("count", "kind", "width", "lobes"))
     # The candidates the gate cannot tell from the prediction (the prediction among them): is the

@@ -392,7 +392,8 @@ def test_fused_predictions_are_one_cluster_in_the_mc_figures():
     assert [scale.verdict_text(fused, k) for k in range(2)] == ["6 fused disks (4)", "4 fused disks"]
     nan = np.nan
     mixed = {"verdict_count": np.array([1, 2, 1]), "verdict_kind": np.array(["fused_disks", "disk", "fiber"]),
-             "verdict_count_predicted": np.array([1, 1, 1]), "verdict_kind_predicted": np.array(["disk", "disk", "fiber"]),
+             "verdict_count_predicted": np.array([1, 1, 1]),
+             "verdict_kind_predicted": np.array(["disk", "disk", "fiber"]),
              "verdict_width": np.array([nan, nan, 9.2]), "verdict_width_predicted": np.array([nan, nan, 9.8]),
              "verdict_lobes": np.array([3.0, nan, nan]), "verdict_lobes_predicted": np.full(3, nan)}
     assert [scale.verdict_text(mixed, k) for k in range(3)] == ["3 fused disks (1 disk)", "2 disks (1)",
