@@ -186,7 +186,11 @@ def _cpu_by_job(benchmark_dir: Path, rule: str) -> dict[str, float]:
 
 def compare(before_dir: Path, after_dir: Path, out: Path, before: str, after: str, rules: list[str],
             exclude: tuple[str, ...] = ()) -> None:
-    rows, both_before, both_after = [], 0.0, 0.0
+    rows, both_before, both_after, every_ratio = [], 0.0, 0.0, []
+
+    def spread(ratios):  # the jobs' own after / before: the total hides how far single jobs move
+        return dict(job_ratio_min=f"{min(ratios):.2f}", job_ratio_max=f"{max(ratios):.2f}")
+
     for rule in rules:
         old, new = _cpu_by_job(before_dir, rule), _cpu_by_job(after_dir, rule)
         shared = sorted(j for j in set(old) & set(new) if not any(fnmatch.fnmatch(j, g) for g in exclude))
@@ -194,13 +198,16 @@ def compare(before_dir: Path, after_dir: Path, out: Path, before: str, after: st
             continue
         cpu_before, cpu_after = sum(old[j] for j in shared), sum(new[j] for j in shared)
         both_before, both_after = both_before + cpu_before, both_after + cpu_after
+        ratios = [new[j] / old[j] for j in shared if old[j] > 0]
+        every_ratio += ratios
         rows.append(dict(rule=rule, jobs=len(shared), cpu_s_before=f"{cpu_before:.0f}", cpu_s_after=f"{cpu_after:.0f}",
-                         ratio=f"{cpu_after / cpu_before:.2f}", before=before, after=after))
+                         ratio=f"{cpu_after / cpu_before:.2f}", **spread(ratios or [float("nan")]), before=before,
+                         after=after))
     if not rows:
         sys.exit(f"compare: no job of {', '.join(rules)} in both {before_dir} and {after_dir}")
     rows.append(dict(rule="all shared jobs", jobs=sum(r["jobs"] for r in rows), cpu_s_before=f"{both_before:.0f}",
-                     cpu_s_after=f"{both_after:.0f}", ratio=f"{both_after / both_before:.2f}", before=before,
-                     after=after))
+                     cpu_s_after=f"{both_after:.0f}", ratio=f"{both_after / both_before:.2f}",
+                     **spread(every_ratio or [float("nan")]), before=before, after=after))
     excluded = f", jobs matching {' '.join(exclude)} excluded" if exclude else ""
     _write_csv(out, f"# The jobs both commits ran (same rule and output{excluded}), CPU seconds paired: {before} "
                     f"before, {after} after (scripts/mc_rule_benchmarks.py compare); {platform.machine()}, "

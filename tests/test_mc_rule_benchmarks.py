@@ -106,6 +106,8 @@ def test_compare_pairs_only_the_jobs_both_commits_ran(tmp_path):
     assert (rows["montecarlo_run"]["cpu_s_before"], rows["montecarlo_run"]["cpu_s_after"]) == ("40", "10")
     assert rows["montecarlo_run"]["ratio"] == "0.25"
     assert rows["all shared jobs"]["jobs"] == "2" and rows["all shared jobs"]["ratio"] == f"{13 / 42:.2f}"
+    # Each job's own ratio: 10 / 40 and 3 / 2, whose spread the totals' 13 / 42 hides.
+    assert (rows["all shared jobs"]["job_ratio_min"], rows["all shared jobs"]["job_ratio_max"]) == ("0.25", "1.50")
     with pytest.raises(SystemExit, match="no job"):
         bench.compare(before, after, out, "a", "b", ["montecarlo_validation_sample"])
 
