@@ -106,8 +106,8 @@ def fused_runs_explained(mc, n):
             count = "One run" if len(group) == 1 else f"{len(group)} runs"
             lines.append(
                 f"{count} within the criterion {called} where the best single aggregate of {n} is compact, "
-                f"at (ν, Γ) = "
-                f"{places}: {_span(gap)} bulk particle energies {'below' if is_below else 'above'} that aggregate and "
+                f"at (ν, Γ) = {places}: {_span(gap)} bulk particle energies {'below' if is_below else 'above'} "
+                "that aggregate and "
                 f"{_span(ground)} above the box's predicted ground state (predicted: {', '.join(families)})"
                 + (": below the best compact aggregate, so the marker reads a shape that family lacks, not a wrong "
                    "prediction." if is_below else "."))
