@@ -68,8 +68,9 @@ constexpr std::array<LatticeVector, 6> kShortestCellVectors{{{1, 0}, {0, 1}, {-1
 // The carry's displacements: every non-zero cell vector (i, j) of at most kCarryRadius neighbour
 // steps (hexagonal distance max(|i|, |j|, |i + j|)), 3 R (R + 1) of them, closed under negation.
 constexpr int kCarryRadius = 3;
-constexpr std::array<LatticeVector, 3 * kCarryRadius * (kCarryRadius + 1)> carry_vectors() {
-    std::array<LatticeVector, 3 * kCarryRadius * (kCarryRadius + 1)> out{};
+constexpr std::size_t kCarryCount = 3 * kCarryRadius * (kCarryRadius + 1);
+constexpr std::array<LatticeVector, kCarryCount> carry_vectors() {
+    std::array<LatticeVector, kCarryCount> out{};
     std::size_t k = 0;
     for (int i = -kCarryRadius; i <= kCarryRadius; ++i)
         for (int j = -kCarryRadius; j <= kCarryRadius; ++j) {
@@ -78,7 +79,7 @@ constexpr std::array<LatticeVector, 3 * kCarryRadius * (kCarryRadius + 1)> carry
         }
     return out;
 }
-constexpr std::array<LatticeVector, 3 * kCarryRadius * (kCarryRadius + 1)> kCarryVectors = carry_vectors();
+constexpr std::array<LatticeVector, kCarryCount> kCarryVectors = carry_vectors();
 // Point operations (tiling.hpp numbering): rotations by +60 and -60 degrees; the six mirrors.
 constexpr std::array<int, 2> kTurns{1, 5};
 constexpr std::array<int, 6> kMirrors{6, 7, 8, 9, 10, 11};
