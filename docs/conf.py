@@ -104,8 +104,11 @@ measured_sources = {
         "python benchmarks/bench_large_runs.py --compare --sweeps 400 --descent-rounds 2 --repeats 2 "
         "--variants workflow parent64 --csv benchmarks/results/large_runs.csv",
     "benchmarks/results/validation_samples.csv":
-        "python benchmarks/bench_validation_samples.py --cases fibre:15 disk:660 disk:1634:0.8 --sweeps 4 "
-        "--repeats 2 --csv benchmarks/results/validation_samples.csv",
+        "python benchmarks/bench_validation_samples.py --cases fibre:15 fibre:25:0.8 disk:660 disk:1634:0.8 "
+        "--sweeps 4 --repeats 2 --csv benchmarks/results/validation_samples.csv",
+    "benchmarks/results/allocator.csv":
+        "python benchmarks/bench_allocator.py --cases disk:660 fibre:15 fibre:25:0.8 --repeats 3 "
+        "--csv benchmarks/results/allocator.csv",
     "benchmarks/results/large_runs_quick.csv":
         "python benchmarks/bench_large_runs.py --compare --n 400 --box 85 --sweeps 4000 --repeats 1 "
         "--variants workflow parent64 --csv benchmarks/results/large_runs_quick.csv",

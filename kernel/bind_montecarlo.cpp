@@ -114,7 +114,7 @@ void export_montecarlo_common(py::module_& m) {
                                    return py::array_t<double>(static_cast<py::ssize_t>(b.state.displacement.size()),
                                                               b.state.displacement.data());
                                },
-                               "Relaxed corner displacements of every site (warm starts), empty without them.")
+                               "Relaxed corner displacements of every site (warm starts; one record per site, a wrapping cluster's strain kept apart), empty without them.")
         .def_property_readonly("known",
                                [](const BoundState& b) {
                                    return py::array_t<std::uint8_t>(static_cast<py::ssize_t>(b.state.known.size()),

@@ -16,7 +16,7 @@
 // matrix is not positive definite, the relaxation is made fresh (relax_newton).
 //
 // Periodic cells (fibres, bulks) are always relaxed fresh: their period parameters couple every
-// image slot, and the Monte Carlo's wrapping clusters are relaxed cold anyway.
+// image slot. The Monte Carlo warm-starts its wrapping clusters instead (montecarlo/chain.hpp).
 #pragma once
 
 #include "relax.hpp"

@@ -10,6 +10,10 @@ References: the cold path (the same kernel with ``parent_start=False``, bit-for-
 path before warm starts), an independent L-BFGS minimisation at a tight tolerance, and the exact
 Boltzmann weights of a box small enough to enumerate.
 """
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -135,3 +139,75 @@ def test_anneal_newton_uses_warm_starts_unless_told_not_to():
     assert warm.energy == pytest.approx(cold.energy, rel=1e-6)
     with pytest.raises(ValueError, match="parent_start"):
         kernel_mc(particle, g, 8, 10, 1, "lbfgs", parent_start=True)
+
+
+def wrapping_fibre_chains(seed, rows=4, box=10):
+    """Warm and cold chains from one straight fibre of ``rows`` rows wrapping a ``box`` x ``box``
+    box along its first lattice vector (ell = 5, nu = 0.9, as the validation's fibre scan), with
+    particle and surface moves and no cache, so that every move relaxes its clusters."""
+    particle, g = setup(dict(ell=5, nu=0.9, eps=0.01))
+    sites = np.array([(i, j) for j in range(rows) for i in range(box)])
+    out = {}
+    for warm in (True, False):
+        mc = kernel_mc(particle, g, box, len(sites), seed, "newton", tol=1e-3, parent_start=warm, surface_moves=0.5,
+                       cache=False)
+        mc.place(sites)
+        out[warm] = mc
+    return particle, g, out
+
+
+def test_wrapping_clusters_are_warm_started_to_the_cold_energies():
+    """A cluster that wraps the box relaxes its period vector, so its displacements grow by the
+    period's change from one image to the next: the store keeps them less the cluster's strain
+    (chain.hpp, kSiteRecord). Held at 0.5 g, where particles leave and rejoin the fibre's outline
+    (a straight fibre's own moves all break bonds, and are screened out at lower temperatures),
+    the relaxations of the fibre start warm (the chain used to relax every wrapping cluster cold),
+    and the running energy equals the cold relaxation of every cluster from scratch to the
+    relaxation tolerance, as for finite clusters (first test)."""
+    particle, g, chains = wrapping_fibre_chains(seed=3)
+    mc = chains[True]
+    n = len(mc.particles)
+    scale = n * particle.bulk_energy_per_particle
+    worst = 0.0
+    for _ in range(8):
+        mc.run(np.array([0.5 * g]), np.array([4 * n]))
+        worst = max(worst, abs(mc.energy - mc.box_energy(True)) / scale)
+    c = mc.counters
+    assert c["warm_starts"] > 0.2 * c["minimisations"] > 20, (c["warm_starts"], c["minimisations"])
+    assert c["unconverged"] == 0
+    assert worst < 1e-5, worst
+
+
+def test_warm_fibre_chain_equals_cold_fibre_chain():
+    """The same seed from the same wrapping fibre, warm and cold: the same moves, and energies
+    equal within the tolerance. (On a fibre this thin the warm chain factorises no less: the
+    cold path's first steps on the reference stiffness converge nearly as fast here.)"""
+    particle, g, chains = wrapping_fibre_chains(seed=5)
+    traces = {warm: mc.run(np.full(6, 0.5 * g), np.full(6, 4 * len(mc.particles)))["energy"]
+              for warm, mc in chains.items()}
+    warm, cold = chains[True], chains[False]
+    assert np.array_equal(warm.particles, cold.particles)
+    for k in ("accepted", "screened", "minimisations"):
+        assert warm.counters[k] == cold.counters[k]
+    atol = 1e-5 * len(warm.particles) * particle.bulk_energy_per_particle
+    assert np.allclose(traces[True], traces[False], rtol=0, atol=atol)
+    assert warm.counters["warm_starts"] > 0 and cold.counters["warm_starts"] == 0
+
+
+@pytest.mark.parametrize("value,expected", [(None, 16 << 20), ("0", 0), ("1048576", 1 << 20)])
+def test_the_heap_top_pad_follows_its_environment_variable(value, expected):
+    """The kernel's heap top pad (kernel/module.cpp) is set at import, per process: 16 MiB unless
+    PYFRUSTRATE_MALLOC_TOP_PAD says otherwise (0: glibc's default, nothing set)."""
+    env = {k: v for k, v in os.environ.items() if k != "PYFRUSTRATE_MALLOC_TOP_PAD"}
+    if value is not None:
+        env["PYFRUSTRATE_MALLOC_TOP_PAD"] = value
+    out = subprocess.run([sys.executable, "-c", "from pyfrustrate import _kernel; print(_kernel.allocator_top_pad)"],
+                         env=env, capture_output=True, text=True, check=True, cwd=os.path.dirname(__file__))
+    assert int(out.stdout) == expected
+
+
+def test_a_bad_heap_top_pad_is_refused_by_name():
+    env = dict(os.environ, PYFRUSTRATE_MALLOC_TOP_PAD="lots")
+    out = subprocess.run([sys.executable, "-c", "import pyfrustrate"], env=env, capture_output=True, text=True,
+                         cwd=os.path.dirname(__file__))
+    assert out.returncode != 0 and "PYFRUSTRATE_MALLOC_TOP_PAD" in out.stderr and "'lots'" in out.stderr

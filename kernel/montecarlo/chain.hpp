@@ -152,6 +152,13 @@ private:
     double fresh_cluster_energy(const Cluster& cluster, const ShapeKey& key, std::vector<double>& displacement,
                                 std::shared_ptr<RelaxedCluster>& factor);
     double warm_energy(const Cluster& cluster, std::vector<double>& displacement, std::shared_ptr<RelaxedCluster>& factor);
+    // The warm-start store's record per site (parent_start): the particle's relaxed corner
+    // displacements less the cluster's affine strain, w = u - A r_ref (2 C doubles), then A (2 x 2,
+    // row-major; zero for a finite cluster). A wrapping cluster's displacements grow by dt from one
+    // image to the next (its period vectors relax), so they are not a function of the site; with
+    // A t_ref = dt for each period vector t_ref, w is, up to a translation, whichever images
+    // represent the particles, and u = w + A r_ref with the period parameters' dt = A t_ref restarts it.
+    static constexpr int kSiteRecord = 2 * Model::kCornerCount + 4;
     // parent_factor: the stored cluster most of `cluster`'s members belong to, if it differs from
     // it by at most kMaxChangedParticles particles, factorised if it was not yet, and `sites` (the
     // cluster's unwrapped sites) translated by whole boxes onto the parent's own unwrapped sites;
@@ -309,8 +316,8 @@ inline void MonteCarlo<Model>::rebuild(bool from_scratch) {
     for (const int s : particles_) bonds_ += occupied_neighbours(s);
     bonds_ /= 2;
     const std::size_t store = options_.parent_start ? static_cast<std::size_t>(box_.n_sites()) : 0;
-    if (site_known_.size() != store || site_displacement_.size() != store * 2 * Model::kCornerCount) {
-        site_displacement_.assign(store * 2 * Model::kCornerCount, 0.0);
+    if (site_known_.size() != store || site_displacement_.size() != store * kSiteRecord) {
+        site_displacement_.assign(store * kSiteRecord, 0.0);
         site_known_.assign(store, 0);
         site_factor_.clear();
     }
@@ -490,7 +497,7 @@ inline void MonteCarlo<Model>::make_move() {
     moved_.resize(p.from.size());
     if (options_.parent_start && p.carries_displacements) {
         // The relaxed displacements travel with the particles (saved, to undo).
-        constexpr int D = 2 * Model::kCornerCount;
+        constexpr int D = kSiteRecord;
         saved_displacement_.clear(), saved_known_.clear(), saved_factor_.clear();
         for (const std::vector<int>* sites : {&p.from, &p.to})
             for (const int s : *sites) {
@@ -558,7 +565,7 @@ inline void MonteCarlo<Model>::undo_move() {
         particles_[moved_[k]] = p.from[k];
     }
     if (!(options_.parent_start && p.carries_displacements)) return;
-    constexpr int D = 2 * Model::kCornerCount;
+    constexpr int D = kSiteRecord;
     std::size_t q = 0;
     for (const std::vector<int>* sites : {&p.from, &p.to})
         for (const int s : *sites) {
@@ -657,7 +664,7 @@ inline double MonteCarlo<Model>::fresh_cluster_energy(const Cluster& cl, const S
     displacement.clear();
     factor.reset();
     if (cl.rank() == 0 && cl.size() == 1) return 0.0;  // an isolated particle takes its rest shape
-    if (!options_.parent_start || cl.rank() != 0) return cluster_energy(cl, key);
+    if (!options_.parent_start) return cluster_energy(cl, key);
     if (!options_.cache) return warm_energy(cl, displacement, factor);
     return cache_.get(key, [&] { return warm_energy(cl, displacement, factor); }, counters.cache);
 }
@@ -712,41 +719,58 @@ template <class Model>
 inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<double>& displacement,
                                              std::shared_ptr<RelaxedCluster>& factor) {
     constexpr int C = Model::kCornerCount;
-    const bool keeps_factor =
-        options_.parent_factor && static_cast<int>(cl.members.size()) >= options_.parent_factor_min_particles;
+    constexpr int R = kSiteRecord;
+    // The parent's factor serves finite clusters only (parent_factor.hpp).
+    const bool keeps_factor = options_.parent_factor && cl.rank() == 0 &&
+                              static_cast<int>(cl.members.size()) >= options_.parent_factor_min_particles;
     std::vector<Site> aligned;
     const RelaxedCluster* parent = keeps_factor ? parent_of(cl, aligned) : nullptr;
     const Topology topology = cluster_topology(tiling(), parent ? aligned : cl.unwrapped, cl);
     const int nc = topology.n_corners(), np = topology.n_particles();
-    // The start: each corner's stored displacement (corners shared by particles of one parent
-    // agree; particles of different parents share none); the one particle allowed without one
-    // (the moved particle) takes the rigid motion that best fits its known corners. More
-    // unknown particles (a parent's energy came from the cache), or a poor fit: the cold start.
-    Vector start = Vector::Zero(2 * nc);
+    const int n_state = 2 * nc + topology.n_period_parameters();
+    const int n_periods = topology.periodicity == Periodicity::Bulk ? 2 : (topology.periodicity == Periodicity::Fiber ? 1 : 0);
+    const Vector period_reference = topology.reference_period_parameters();
+    // The start: each corner's stored displacement, u = w + A r_ref (kSiteRecord; corners shared
+    // by particles of one parent agree; particles of different parents share none), and for a
+    // wrapping cluster the period vectors' dt = A t_ref with the known particles' mean strain A;
+    // the one particle allowed without one (the moved particle) takes the rigid motion that best
+    // fits its known corners. More unknown particles (a parent's energy came from the cache), or
+    // a poor fit: the cold start.
+    Vector start = Vector::Zero(n_state);
     std::vector<int> count(nc, 0);
+    Mat2 mean_strain = Mat2::Zero();
     int known = 0;
     for (int p = 0; p < np; ++p) {
         const int site = cl.members[p];
         if (!site_known_[site]) continue;
         ++known;
-        const double* d = &site_displacement_[static_cast<std::size_t>(site) * 2 * C];
+        const double* d = &site_displacement_[static_cast<std::size_t>(site) * R];
+        const Mat2 strain = Eigen::Map<const Eigen::Matrix<double, 2, 2, Eigen::RowMajor>>(d + 2 * C);
+        mean_strain += strain;
         for (int s = 0; s < C; ++s) {
             const int c = topology.corner[p][s];
-            start[2 * c] += d[2 * s];
-            start[2 * c + 1] += d[2 * s + 1];
+            start.segment<2>(2 * c) += Vec2(d[2 * s], d[2 * s + 1]) + strain * topology.reference[c];
             ++count[c];
         }
     }
-    bool warm = known > 0 && np - known <= 1;
+    bool warm = known > 0 && np - known <= 1 && !topology.curved;
     int unknown_particle = -1;
     std::vector<int> new_dof;  // of the corners only the unknown particle holds
     double misfit = 0;  // largest distance of a known corner of an unknown particle from the rigid fit
     if (warm) {
         for (int c = 0; c < nc; ++c)
             if (count[c] > 1) start.segment<2>(2 * c) /= count[c];
+        mean_strain /= known;
+        for (int v = 0; v < n_periods; ++v)
+            start.segment<2>(2 * nc + 2 * v) = mean_strain * period_reference.segment<2>(2 * v);
         for (int p = 0; p < np; ++p) {
             if (site_known_[cl.members[p]]) continue;
             unknown_particle = p;
+            // The rigid fit places corners in the cell, not their periodic images: a particle
+            // with a slot across the cell's seam starts cold.
+            for (int s = 0; s < C; ++s)
+                if (topology.image[p][s][0] != 0 || topology.image[p][s][1] != 0) warm = false;
+            if (!warm) break;
             std::vector<int> known_corner(nc);
             for (int c = 0; c < nc; ++c) known_corner[c] = count[c] > 0;
             misfit = fit_particle_corners(topology, p, start, known_corner, &new_dof);
@@ -768,22 +792,36 @@ inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<doub
     std::shared_ptr<RelaxedCluster> own;
     const double e = relaxed_cluster_energy(model_, topology, options_.relax, counters.relax, warm ? &start : nullptr, &u,
                                             parent, parent ? &own : nullptr);
-    if (keeps_factor && !own && u.size() == 2 * topology.n_corners()) {
+    if (keeps_factor && !own && u.size() == n_state) {
         // Relaxed without its parent's factor: kept unfactorised until a child needs it (parent_of).
         own = std::make_shared<RelaxedCluster>();
         own->topology = topology;
         own->displacement = u;
     }
     factor = std::move(own);
-    if (u.size() == 2 * nc) {
+    if (u.size() == n_state) {
         remove_rigid_motion(topology, u);
-        displacement.resize(static_cast<std::size_t>(np) * 2 * C);
-        for (int p = 0; p < np; ++p)
+        // The strain A with A t_ref = dt for each period vector (the least-norm one for a fibre).
+        Mat2 strain = Mat2::Zero();
+        if (n_periods == 1) {
+            const Vec2 t = period_reference.head<2>();
+            strain = u.segment<2>(2 * nc) * t.transpose() / t.squaredNorm();
+        } else if (n_periods == 2) {
+            Mat2 dt, t;
+            dt << u.segment<2>(2 * nc), u.segment<2>(2 * nc + 2);
+            t << period_reference.head<2>(), period_reference.segment<2>(2);
+            strain = dt * t.inverse();
+        }
+        displacement.resize(static_cast<std::size_t>(np) * R);
+        for (int p = 0; p < np; ++p) {
+            double* d = &displacement[static_cast<std::size_t>(p) * R];
             for (int s = 0; s < C; ++s) {
                 const int c = topology.corner[p][s];
-                displacement[(static_cast<std::size_t>(p) * C + s) * 2] = u[2 * c];
-                displacement[(static_cast<std::size_t>(p) * C + s) * 2 + 1] = u[2 * c + 1];
+                const Vec2 w = u.segment<2>(2 * c) - strain * topology.reference[c];
+                d[2 * s] = w.x(), d[2 * s + 1] = w.y();
             }
+            Eigen::Map<Eigen::Matrix<double, 2, 2, Eigen::RowMajor>>(d + 2 * C) = strain;
+        }
     }
     return e;
 }
@@ -933,7 +971,7 @@ inline void MonteCarlo<Model>::adopt_fresh_clusters() {
         for (const int m : fresh_[k].members) label_[m] = id;
     }
     if (!options_.parent_start) return;
-    constexpr int D = 2 * Model::kCornerCount;
+    constexpr int D = kSiteRecord;
     for (std::size_t k = 0; k < fresh_.size(); ++k) {
         const std::vector<double>& d = fresh_displacement_[k];
         const bool stored = d.size() == fresh_[k].members.size() * D;

@@ -53,8 +53,9 @@ struct ChainState {
     std::mt19937_64 rng;         // the chain's only random stream
     double deformation = 0.0;    // running sum of the relaxed deformation energies of the clusters
     std::int64_t bonds = 0;      // bound pairs of sides (counted again when a state comes from elsewhere)
-    // Warm starts (options.parent_start): each site's relaxed corner displacements (2 C doubles
-    // per site, lab frame, rigid motion removed) and whether they are known; empty otherwise.
+    // Warm starts (options.parent_start): each site's relaxed corner displacements (a record of
+    // 2 C + 4 doubles per site, lab frame, rigid motion removed, a wrapping cluster's strain kept
+    // apart: MonteCarlo::kSiteRecord) and whether they are known; empty otherwise.
     std::vector<double> displacement;
     std::vector<char> known;
     // Parent factors (options.parent_factor): each site's cluster, relaxed and factorised, shared
