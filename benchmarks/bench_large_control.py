@@ -34,12 +34,9 @@ from _common import import_pyfrustrate, machine_line, source_line, table, write_
 import numpy as np  # noqa: E402  (after _common, which pins BLAS to one thread)
 
 DEFAULT_CSV = Path(__file__).resolve().parent / "results" / "large_control.csv"
-#: The moves of config/config.yaml's large runs (montecarlo: cluster_*, large_*_moves, large_collective)
-#: as they were when results/large_control.csv and large_merging.csv were made: without the
-#: vacancy moves (large_collective.vacancy_moves) the workflow has used since. Kept, so that
-#: those tables stay reproducible; add vacancy_moves here when they are measured again.
+#: The moves of config/config.yaml's large runs (montecarlo: cluster_*, large_*_moves, large_collective).
 MOVES = dict(method="newton", tol=1e-3, cluster_moves=0.05, cluster_link=0.9, bonded_moves=0.3, surface_moves=0.3,
-             shift_moves=0.05, rotation_moves=0.05, reflection_moves=0.05, isometry_link=0.3)
+             shift_moves=0.05, rotation_moves=0.05, reflection_moves=0.05, isometry_link=0.3, vacancy_moves=0.05)
 
 
 def candidates_for(args, particle, nu):

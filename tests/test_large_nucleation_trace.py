@@ -61,3 +61,16 @@ def test_summary_reads_the_first_nucleus_the_most_and_the_last_stage():
         ("0.3000", "1.5", 1, 2)
     assert (s["last_energy_over_g"], s["last_free_mean"]) == ("-93.0", "1.0")
     assert (s["end_nuclei"], s["end_largest"], s["end_lobes"]) == (1, 100, 2)
+
+
+def test_the_benchmarks_moves_are_the_workflows_large_runs():
+    """bench_large_control.MOVES (which bench_large_nucleation and bench_large_merging run) are
+    the moves config/config.yaml gives the large box's runs: a move family added to the workflow
+    and not to the benchmarks would leave their tables measuring another chain."""
+    import yaml
+    mc = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["montecarlo"]
+    expected = dict(method=mc["large_method"], cluster_moves=mc["cluster_moves"], cluster_link=mc["cluster_link"],
+                    bonded_moves=mc["large_bonded_moves"], surface_moves=mc["large_surface_moves"],
+                    **{k: v for k, v in mc["large_collective"].items() if k.endswith("_moves") or k.endswith("_link")})
+    moves = {k: v for k, v in bench.MOVES.items() if k != "tol"}
+    assert moves == expected
