@@ -96,7 +96,7 @@ def control(args, nu, Gamma):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--points", nargs="+", default=["0.4,0.2", "0.4,0.5", "0.9,0.5"],
+    ap.add_argument("--points", nargs="+", default=["0.4,0.2", "0.4,0.5", "0.9,0.5", "0.9,0.8"],
                     help="nu,Gamma pairs (Gamma in the measured convention)")
     ap.add_argument("--ell", type=float, default=5.0)
     ap.add_argument("--eps", type=float, default=0.01)

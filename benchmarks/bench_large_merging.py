@@ -12,7 +12,8 @@ workflow's finite-size prediction, ``--candidates``, when it exists, else built)
 
 Runs go one at a time, in this process; each row is written to the CSV (``--csv``) as soon as
 its run ends, and rows already in the file (same variant, nu, Gamma, seed) are kept and not
-rerun, so an interrupted measurement resumes.
+rerun, so an interrupted measurement resumes; a file written with other parameters (moves
+included) is measured afresh.
 
 Usage: ``python benchmarks/bench_large_merging.py --variants workflow hop_moves=0.05
 [--points 0.4,0.5 0.4,0.8] [--seeds 1 2 3] [--csv benchmarks/results/large_merging.csv]``
@@ -21,6 +22,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import sys
 import time
 from pathlib import Path
@@ -28,7 +30,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import import_pyfrustrate, machine_line, source_line, table, write_csv  # noqa: E402
 
-from bench_large_control import candidates_for  # noqa: E402  (the box's candidate ground states)
+from bench_large_control import MOVES, candidates_for  # noqa: E402  (the workflow moves; the box's candidate ground states)
 from bench_large_runs import WINDOW, variant_options  # noqa: E402  (the workflow's schedule and chain)
 
 DEFAULT_CSV = Path(__file__).resolve().parent / "results" / "large_merging.csv"
@@ -96,10 +98,17 @@ def main(argv=None):
     ap.add_argument("--csv", type=Path, default=DEFAULT_CSV)
     args = ap.parse_args(argv)
     print(f"{machine_line()}\n{source_line()}")
+    parameters = dict(ell=args.ell, eps=args.eps, n=args.n, box=args.box, sweeps=args.sweeps, window=WINDOW,
+                      moves=MOVES)
     rows = []
     if args.csv.is_file():
         with open(args.csv, newline="") as fh:
-            rows = list(csv.DictReader(line for line in fh if not line.startswith("#")))
+            lines = fh.read().splitlines()
+        written = json.loads(lines[0].removeprefix("# provenance: ")).get("parameters") if lines else None
+        if written == json.loads(json.dumps(parameters)):
+            rows = list(csv.DictReader(line for line in lines if not line.startswith("#")))
+        else:
+            print(f"{args.csv}: written with other parameters ({written}); measuring afresh")
     done = {(r["variant"], float(r["nu"]), float(r["Gamma"]), int(r["seed"])) for r in rows}
     for seed in args.seeds:
         for point in args.points:
@@ -109,8 +118,7 @@ def main(argv=None):
                     continue
                 rows.append(large_run(args, variant, nu, Gamma, seed))
                 print(", ".join(f"{k} {v}" for k, v in rows[-1].items()), flush=True)
-                write_csv(args.csv, rows, parameters=dict(ell=args.ell, eps=args.eps, n=args.n, box=args.box,
-                                                          sweeps=args.sweeps, window=WINDOW))
+                write_csv(args.csv, rows, parameters=parameters)
     print(table([tuple(str(v) for v in row.values()) for row in rows], list(rows[0])))
 
 

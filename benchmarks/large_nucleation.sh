@@ -7,7 +7,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PYTHON=${PYTHON:-python}
-CANDIDATES=${CANDIDATES:-results/montecarlo/finite/n{n}_nu{nu:g}.npz}
+# (The default through a variable: the braces of the file pattern would close ${...:-...}.)
+default_candidates='results/montecarlo/finite/n{n}_nu{nu:g}.npz'
+CANDIDATES=${CANDIDATES:-$default_candidates}
 R=benchmarks/results/large_nucleation
 trace() { nice -n 2 "$PYTHON" benchmarks/bench_large_nucleation.py --nu 0.4 --every 20 --candidates "$CANDIDATES" "$@"; }
 for T in 0.7 0.6 0.5 0.4; do

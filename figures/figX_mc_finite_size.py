@@ -2,7 +2,8 @@
 infinite-system diagram predicts fibres, and what a larger box shows (ell = 5).
 
 (a) Width and (b) length of the largest final aggregate (gyration measure,
-topology.gyration_dimensions) along the fibre scan nu = 0.9, for the paper's box of n particles
+topology.gyration_dimensions; for a fibre, that of the straight strip of its rows and particles,
+so that a bent fibre is measured by its arms) along the fibre scan nu = 0.9, for the paper's box of n particles
 and a larger one at the same density; lines: the best single aggregate of exactly n particles
 (ansatz.finite_aggregates, relaxed compact-to-elongated shapes) and the continuum fibre width
 W*(Gamma) (Eq. 11). A fibre of width W* needs about n > 3 W*^2 / (sqrt(3)/2) particles to be
@@ -40,6 +41,24 @@ def largest_aggregate_words(run):
     return plotting.PHASE_LABELS.get(kind, kind)
 
 
+def strip_dimensions(rows, particles):
+    """Gyration width and length of the straight strip of ``rows`` rows holding ``particles``
+    particles: what (a) and (b) plot for an aggregate read as a fibre, so that a bent fibre is
+    measured by its arms, as its title and the large runs' verdict read it."""
+    rows = max(1, int(round(rows)))
+    length = max(rows, int(round(particles / rows)))
+    # Each row shifted back by half a step (i - j // 2): a rectangle, not a parallelogram.
+    return gyration_dimensions(np.array([(i - j // 2, j) for j in range(rows) for i in range(length)]))
+
+
+def plotted_dimensions(run):
+    """(width, length) of a run's largest aggregate for (a) and (b): its gyration measure, or for a
+    fibre that of the straight strip of its rows (strip_dimensions)."""
+    coords, _ = largest_aggregate(run)
+    _, kind, size = aggregate_structure(run["sites"], int(run["box"]))
+    return strip_dimensions(size, len(coords)) if kind == "fiber" else gyration_dimensions(coords)
+
+
 def main(run_paths, finite_paths, outputs, provenance=None):
     runs = [load_npz(p) for p in run_paths]
     finite = [load_npz(p) for p in finite_paths]
@@ -65,8 +84,8 @@ def main(run_paths, finite_paths, outputs, provenance=None):
     for r in runs:
         if abs(float(r["nu"]) - nu_fibre) > 1e-9:
             continue
-        coords, rank = largest_aggregate(r)
-        width, length = gyration_dimensions(coords)
+        _, rank = largest_aggregate(r)
+        width, length = plotted_dimensions(r)
         marker = "o" if str(r["kind"]) == "sparse" else "s"
         n = int(r["n"])
         for ax, value in zip(axes, (width, length)):
@@ -109,7 +128,7 @@ def main(run_paths, finite_paths, outputs, provenance=None):
         sub.set_yticks([])
         wrap = ", wraps" if rank else ""
         gap = plotting.gap_to_best_single(r, finite)
-        gap = "" if gap is None else rf", $\Delta E$ = {gap:+.0f} $e_{{\rm bulk}}$"
+        gap = "" if gap is None else rf", $\Delta E$ = {gap:+.0f}"
         sub.set_title(rf"$\Gamma$ = {float(r['Gamma']):g}, $\nu$ = {float(r['nu']):g}" "\n"
                       f"{largest_aggregate_words(r)}{wrap}{gap}")
     if large:

@@ -193,3 +193,26 @@ def test_a_fibre_bent_by_120_degrees_with_similar_arms_reads_as_a_disk(width):
     # update that page.
     assert aggregate_structure(bent(width, 120, arm=24), 200)[1] == "disk"
     assert aggregate_structure(bent(width, 60, arm=24), 200)[1] == "fiber"
+
+
+def test_figX_mc_finite_size_measures_a_bent_fibre_by_its_arms():
+    """(a) and (b) of figX_mc_finite_size plot a fibre's gyration measure as that of the straight
+    strip of its rows: a fibre of 6 rows bent by 60 degrees plots the width of a straight strip of
+    6 rows built here (within a row's spacing), where its own gyration tensor reads the span of the
+    bend, more than twice as wide; a disk keeps its own gyration measure."""
+    import importlib.util
+    from pathlib import Path
+
+    from pyfrustrate.topology import gyration_dimensions
+    path = Path(__file__).resolve().parents[1] / "figures" / "figX_mc_finite_size.py"
+    spec = importlib.util.spec_from_file_location("figX_mc_finite_size", path)
+    figure = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(figure)
+    fibre = bent(6, 60)
+    plotted_width, plotted_length = figure.plotted_dimensions(dict(sites=fibre, box=200))
+    straight_width, straight_length = gyration_dimensions(rows(len(fibre) // 6, 6))
+    assert plotted_width == pytest.approx(straight_width, abs=np.sqrt(3) / 2)
+    assert plotted_length == pytest.approx(straight_length, rel=0.1)
+    assert gyration_dimensions(fibre)[0] > 2 * plotted_width
+    compact = disk(7, 20, 20)
+    assert figure.plotted_dimensions(dict(sites=compact, box=BOX)) == pytest.approx(gyration_dimensions(compact), rel=1e-12)
