@@ -1,4 +1,5 @@
-// The compiled kernel of pyfrustrate. Each piece exports itself; this file only calls them.
+// The compiled kernel of pyfrustrate. Each piece exports itself; this file calls them and sets the
+// heap top pad (below).
 #include <pybind11/pybind11.h>
 
 #include <algorithm>
@@ -17,7 +18,7 @@ namespace {
 // supernodal factor, the analysis, Eigen's vectors): megabytes for a cluster of a few hundred
 // particles. glibc hands the top of its heap back to the system after each such free and takes
 // it again, zeroed page by page, at the next: a fifth of a validation sample's time went to page
-// faults and memset (perf, a 660-particle disk). A top pad of 16 MiB keeps that memory in the
+// faults and memset (perf, a 600-particle fibre). A top pad of 16 MiB keeps that memory in the
 // heap (benchmarks/bench_allocator.py measures the gain against glibc's default, alternately).
 // PYFRUSTRATE_MALLOC_TOP_PAD (bytes) sets another pad; 0 leaves glibc's default untouched.
 constexpr long kDefaultTopPad = 16L << 20;
