@@ -102,11 +102,12 @@ def main(argv=None):
                       moves=MOVES)
     rows = []
     if args.csv.is_file():
-        with open(args.csv, newline="") as fh:
-            lines = fh.read().splitlines()
-        written = json.loads(lines[0].removeprefix("# provenance: ")).get("parameters") if lines else None
+        import_pyfrustrate()
+        from pyfrustrate.io import read_provenance
+        written = (read_provenance(args.csv) or {}).get("parameters")
         if written == json.loads(json.dumps(parameters)):
-            rows = list(csv.DictReader(line for line in lines if not line.startswith("#")))
+            with open(args.csv, newline="") as fh:
+                rows = list(csv.DictReader(line for line in fh if not line.startswith("#")))
         else:
             print(f"{args.csv}: written with other parameters ({written}); measuring afresh")
     done = {(r["variant"], float(r["nu"]), float(r["Gamma"]), int(r["seed"])) for r in rows}

@@ -32,9 +32,9 @@ long set_allocator_top_pad() {
         if (end == text || *end != '\0' || value < 0)
             throw std::invalid_argument(std::string("PYFRUSTRATE_MALLOC_TOP_PAD: expected a number of bytes >= 0, got '") +
                                         text + "'");
-        pad = value;
+        pad = std::min(value, 1L << 30);  // mallopt takes an int
     }
-    if (pad > 0 && mallopt(M_TOP_PAD, static_cast<int>(std::min(pad, 1L << 30))) == 1) return std::min(pad, 1L << 30);
+    if (pad > 0 && mallopt(M_TOP_PAD, static_cast<int>(pad)) == 1) return pad;
 #endif
     return 0;
 }
