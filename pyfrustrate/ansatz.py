@@ -391,6 +391,60 @@ def edge_line_tension(cut: int, tiling: str = "hexagon") -> float:
 #: aggregate (0) to a strip about ten times longer than wide (4).
 FINITE_SEGMENTS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0)
 
+#: Largest hole of ``finite_hole_sizes``, as a fraction of the aggregate's particles: a ring whose
+#: rim is a fibre of optimal width holds a hole of 0.2-0.3 n at 400-800 particles (ell = 2.5-5,
+#: nu = 0.9, Gamma = 0.3-0.5).
+FINITE_HOLE_FRACTION = 0.5
+#: Most holes of ``finite_hole_sizes`` besides none: every complete shape up to 800 particles,
+#: evenly spaced radii beyond.
+FINITE_HOLE_COUNT = 12
+
+
+def finite_hole_sizes(n: int, tiling: str = "hexagon", fraction: float = FINITE_HOLE_FRACTION) -> tuple[int, ...]:
+    """Default holes of ``finite_aggregates``: none, then complete compact shapes of the tiling up
+    to ``fraction * n`` sites, at most ``FINITE_HOLE_COUNT`` of them (evenly spaced radii).
+
+    The complete shapes (hexagons of ``1 + 3 r (r + 1)`` hexagons, of ``6 r^2`` triangles) leave
+    the faceted compact aggregate a ring bounded by close-packed rows on both sides, the most
+    bonds a hole of that size allows.
+
+    Parameters
+    ----------
+    n : int
+        Particles per aggregate, ``>= 1``.
+    tiling : {'hexagon', 'triangle'}, optional
+        The tiling.
+    fraction : float, optional
+        Largest hole over ``n``, in ``[0, 1]`` (0: solid shapes only, the cheapest prediction).
+
+    Returns
+    -------
+    tuple of int
+        Increasing, starting at 0.
+
+    Examples
+    --------
+    >>> from pyfrustrate import ansatz
+    >>> ansatz.finite_hole_sizes(200), ansatz.finite_hole_sizes(200, "triangle")
+    ((0, 1, 7, 19, 37, 61, 91), (0, 6, 24, 54, 96))
+    """
+    n = _checks.integer("n", n, 1)
+    largest = _checks.probability("fraction", fraction) * n
+    if topology.tiling_facts(tiling)["sublattices"] > 1:
+        def size(r):
+            return 6 * r * r
+        first, last = 1, int(np.sqrt(largest / 6)) + 1
+    else:
+        def size(r):
+            return 1 + 3 * r * (r + 1)
+        first, last = 0, int(np.sqrt(largest / 3)) + 1
+    while last >= first and size(last) > largest:  # the square roots' rounding
+        last -= 1
+    if last < first:
+        return (0,)
+    radii = np.unique(np.round(np.linspace(first, last, min(FINITE_HOLE_COUNT, last - first + 1))).astype(int))
+    return (0, *(size(int(r)) for r in radii))
+
 
 class EnergiesLinearInG:
     """Candidates whose energies are ``deformation - g * bonds``: the lowest at each binding energy.
@@ -455,11 +509,13 @@ class EnergiesLinearInG:
 @dataclass(frozen=True)
 class FiniteAggregates(EnergiesLinearInG):
     """Relaxed single aggregates of exactly ``n`` particles, from compact to elongated, round and
-    faceted (``topology.stadium_sites``): what a Monte Carlo box of ``n`` particles can form.
+    faceted, solid and with a hole at their core (``topology.stadium_sites``): what a Monte Carlo
+    box of ``n`` particles can form.
 
     The infinite-system catalogue says which structure wins per particle; at the particle numbers
     of a simulation a fibre of optimal width ``W*`` may not fit, and the best single aggregate is
-    then more compact. Splitting into several aggregates is not considered
+    then more compact, or a ring: a hole relieves the stress frustration builds towards the
+    centre, as a fibre's finite width does. Splitting into several aggregates is not considered
     (``ground_states.box_candidates`` does).
 
     Attributes
@@ -470,6 +526,8 @@ class FiniteAggregates(EnergiesLinearInG):
         Core segment length of each shape, lattice spacings.
     faceted : ndarray of bool
         Bounded by close-packed rows rather than round.
+    hole : ndarray of int
+        Sites left empty at the shape's core (0: solid).
     sites : tuple of ndarray
         Each shape's sites, shape (n, 2).
     deformation : ndarray
@@ -485,6 +543,7 @@ class FiniteAggregates(EnergiesLinearInG):
     n: int
     segment: np.ndarray
     faceted: np.ndarray
+    hole: np.ndarray
     sites: tuple
     deformation: np.ndarray
     bonds: np.ndarray
@@ -492,7 +551,7 @@ class FiniteAggregates(EnergiesLinearInG):
     length: np.ndarray
     converged: np.ndarray
 
-    _FIELDS = ("segment", "faceted", "deformation", "bonds", "width", "length", "converged")
+    _FIELDS = ("segment", "faceted", "hole", "deformation", "bonds", "width", "length", "converged")
 
     def best_aspect_ratio(self, g) -> np.ndarray:
         """Length over width of the best single aggregate at each ``g`` (1 for a round one).
@@ -516,13 +575,15 @@ class FiniteAggregates(EnergiesLinearInG):
         Parameters
         ----------
         arrays : mapping
-            As written by ``arrays``.
+            As written by ``arrays``. Files written before the holes (without ``hole``) hold
+            solid shapes only.
 
         Returns
         -------
         FiniteAggregates
         """
-        fields = {k: np.asarray(arrays[k]) for k in cls._FIELDS}
+        fields = {k: np.asarray(arrays[k]) for k in cls._FIELDS if k != "hole"}
+        fields["hole"] = np.asarray(arrays["hole"]) if "hole" in arrays else np.zeros(len(fields["segment"]), int)
         return cls(int(arrays["n"]), sites=tuple(np.asarray(arrays["sites"])), **fields)
 
     def arrays(self) -> dict:
@@ -557,13 +618,16 @@ def energy_above_best_single(energy: float, g: float, prediction) -> float:
     return (float(energy) - float(best)) / float(prediction["bulk_energy_per_particle"])
 
 
-def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", tol: float = 1e-5) -> FiniteAggregates:
-    """Relax the two one-parameter families of single ``n``-particle aggregates, round and faceted.
+def finite_aggregates(particle, n: int, segments=None, holes=None, method: str = "lbfgs",
+                      tol: float = 1e-5) -> FiniteAggregates:
+    """Relax the two one-parameter families of single ``n``-particle aggregates, round and faceted,
+    each solid and with each hole of ``holes``.
 
     The finite-size prediction for Monte Carlo: the best shape at binding energy ``g`` is
     ``best(g)``. The faceted shapes hold the most bonds; the round ones alone left the best
     aggregate of 200 particles 1-4 bulk particle energies too high (ell = 5, Gamma = 0.5 to 0.95),
-    below which annealing with bonded moves went.
+    below which annealing with bonded moves went. Without holes, the disks of 800 particles at
+    nu = 0.9 that Monte Carlo dug a hole into ended below the best solid shape.
 
     Parameters
     ----------
@@ -575,6 +639,8 @@ def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", to
         Core segment lengths of the shapes (``topology.stadium_sites``), lattice spacings
         (default ``FINITE_SEGMENTS * sqrt(n)`` on the hexagon tiling, ``sqrt(n / 2)`` on the
         triangle one, whose particles cover half the area).
+    holes : array_like of int, optional
+        Sites left empty at each shape's core, 0 for solid (default ``finite_hole_sizes(n)``).
     method : {'auto', 'newton', 'lbfgs', 'linear'}, optional
         As for ``relax``.
     tol : float, optional
@@ -583,26 +649,27 @@ def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", to
     Returns
     -------
     FiniteAggregates
-        Round shapes first, then faceted ones, each in the order of ``segments``; a shape that
-        falls into pieces (a round triangle strip thinner than a row) is left out.
+        Round shapes first, then faceted ones, each in the order of ``segments`` and, per
+        segment, of ``holes``; a shape that falls into pieces (a round triangle strip thinner
+        than a row, a hole that cuts a strip) is left out.
 
     Raises
     ------
     TypeError
         If ``particle`` is not a particle model.
     ValueError
-        For bad ``segments`` or ``n``, or ``n`` too large for memory.
+        For bad ``segments``, ``holes`` or ``n``, or ``n`` too large for memory.
 
     Examples
     --------
     >>> from pyfrustrate import Hexagon, ansatz
     >>> p = Hexagon.from_continuum(ell=2.0, nu=0.9)
-    >>> shapes = ansatz.finite_aggregates(p, 19, segments=[0.0, 4.0])
-    >>> shapes.faceted.tolist(), shapes.bonds.tolist()
-    ([False, False, True, True], [42, 40, 42, 40])
+    >>> shapes = ansatz.finite_aggregates(p, 19, segments=[0.0, 4.0], holes=[0, 1])
+    >>> shapes.faceted.tolist(), shapes.hole.tolist(), shapes.bonds.tolist()
+    ([False, False, False, False, True, True, True, True], [0, 1, 0, 1, 0, 1, 0, 1], [42, 38, 40, 36, 42, 38, 40, 36])
     >>> g = ansatz.binding_energy_of(p, 2.0, 0.9, Gamma=0.5)
     >>> int(shapes.best(g)), float(shapes.best_aspect_ratio(g))  # the compact hexagon of 19
-    (2, 1.0)
+    (4, 1.0)
     """
     tiling = _checks.particle("particle", particle).tiling
     if segments is None:
@@ -613,18 +680,23 @@ def finite_aggregates(particle, n: int, segments=None, method: str = "lbfgs", to
     segments = np.atleast_1d(np.asarray(segments, float))
     if segments.ndim != 1 or segments.size == 0:
         raise ValueError(f"segments must be a non-empty 1D sequence, got shape {segments.shape}")
+    holes = finite_hole_sizes(n, tiling) if holes is None else tuple(
+        _checks.integer("holes", h, 0) for h in np.atleast_1d(np.asarray(holes)).tolist())
+    if not holes:
+        raise ValueError("holes must be a non-empty sequence (0: solid)")
     rows, shapes = [], []
     kwargs: dict[str, Any] = {"x0": "linear"} if method == "lbfgs" else {}
     for faceted in (False, True):
         for segment in segments:
-            sites = topology.stadium_sites(n, segment, faceted=faceted, tiling=tiling)
-            cluster = topology.cluster(sites, tiling=tiling)
-            if _kernel.rigid_pieces(cluster.kernel) > 1:
-                continue  # a strip thinner than a row of triangles breaks up: no single aggregate
-            r = relax(particle, cluster, method=method, tol=tol, **kwargs)
-            shapes.append(sites)
-            rows.append((segment, faceted, r.energy, r.n_bonds, *topology.gyration_dimensions(sites, tiling),
-                         r.converged))
+            for hole in holes:
+                sites = topology.stadium_sites(n, segment, faceted=faceted, tiling=tiling, hole=hole)
+                cluster = topology.cluster(sites, tiling=tiling)
+                if _kernel.rigid_pieces(cluster.kernel) > 1:
+                    continue  # a strip thinner than a row of triangles, or cut by its slot: no single aggregate
+                r = relax(particle, cluster, method=method, tol=tol, **kwargs)
+                shapes.append(sites)
+                rows.append((segment, faceted, hole, r.energy, r.n_bonds, *topology.gyration_dimensions(sites, tiling),
+                             r.converged))
     # Each row holds the array fields in FiniteAggregates._FIELDS order.
     return FiniteAggregates(int(n), sites=tuple(shapes),
                             **{k: np.array(column) for k, column in zip(FiniteAggregates._FIELDS, zip(*rows))})

@@ -6,8 +6,8 @@ Families, each a set of real configurations of the box (their sites are returned
 fit without touching their periodic images):
 
 ``single``
-    one aggregate of all ``n`` particles, compact to elongated, round and faceted
-    (``ansatz.finite_aggregates``: ``topology.stadium_sites``);
+    one aggregate of all ``n`` particles, compact to elongated, round and faceted, solid or with a
+    hole at its core (``ansatz.finite_aggregates``: ``topology.stadium_sites``);
 ``wrapping_fiber``
     full rows along ``a1`` that wrap the box (a straight fibre periodic with the box, ``n // box``
     rows) plus the remaining particles as a partial row on one edge; with ``n`` near ``box**2`` it
@@ -429,7 +429,8 @@ def aggregate_counts(n: int, max_aggregates: int | None = None) -> list[int]:
     return counts
 
 
-def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None, method: str = "lbfgs",
+def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None,
+                   hole_fraction: float = ansatz.FINITE_HOLE_FRACTION, method: str = "lbfgs",
                    tol: float = 1e-5) -> BoxCandidates:
     """Candidate ground states of ``n`` particles in a periodic ``box x box`` lattice (module
     docstring), relaxed with ``method`` to ``tol``. Hexagon tiling.
@@ -445,6 +446,9 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
     max_aggregates : int, optional
         Limit the separate and the fused aggregates to counts 2 .. max_aggregates (default:
         ``aggregate_counts(n)``).
+    hole_fraction : float, optional
+        Largest hole of the single aggregates and of the parts, over their particles
+        (``ansatz.finite_hole_sizes``; 0: solid shapes only).
     method : {'auto', 'newton', 'lbfgs', 'linear'}, optional
         As for ``relax``.
     tol : float, optional
@@ -483,7 +487,8 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
     rows = []  # (family, deformation, bonds, sites, converged)
     kwargs: dict[str, Any] = {"x0": "linear"} if method == "lbfgs" else {}
 
-    single = ansatz.finite_aggregates(particle, n, method=method, tol=tol)
+    single = ansatz.finite_aggregates(particle, n, holes=ansatz.finite_hole_sizes(n, fraction=hole_fraction),
+                                      method=method, tol=tol)
     for k, sites in enumerate(single.sites):
         if not _touches_itself(sites, box):
             rows.append(("single", single.deformation[k], single.bonds[k], _in_box(sites, box), single.converged[k]))
@@ -502,25 +507,33 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
         q = n // m
         if q < 2:
             break
-        parts = {q: ansatz.finite_aggregates(particle, q, method=method, tol=tol)}
+        # The last part (q plus the remainder) has the same holes as the others, so that each shape
+        # of q has its counterpart (_same_shape).
+        holes = ansatz.finite_hole_sizes(q, fraction=hole_fraction)
+        parts = {q: ansatz.finite_aggregates(particle, q, holes=holes, method=method, tol=tol)}
         last = q + n - m * q
-        parts[last] = parts[q] if last == q else ansatz.finite_aggregates(particle, last, method=method, tol=tol)
-        for k in range(len(parts[q].sites)):
-            shapes = [parts[q].sites[k]] * (m - 1) + [parts[last].sites[k]]
+        parts[last] = parts[q] if last == q else ansatz.finite_aggregates(particle, last, holes=holes, method=method,
+                                                                          tol=tol)
+        counterpart = _same_shape(parts[q], parts[last])
+        for k, j in counterpart.items():
+            shapes = [parts[q].sites[k]] * (m - 1) + [parts[last].sites[j]]
             if any(_touches_itself(shape, box) for shape in shapes[-2:]):
                 continue
             sites = _pack(shapes, box)
             if sites is None:
                 continue
-            rows.append((f"aggregates{m}", (m - 1) * parts[q].deformation[k] + parts[last].deformation[k],
-                         (m - 1) * parts[q].bonds[k] + parts[last].bonds[k], sites,
-                         parts[q].converged[k] and parts[last].converged[k]))
+            rows.append((f"aggregates{m}", (m - 1) * parts[q].deformation[k] + parts[last].deformation[j],
+                         (m - 1) * parts[q].bonds[k] + parts[last].bonds[j], sites,
+                         parts[q].converged[k] and parts[last].converged[j]))
         # The same parts joined by necks, relaxed as one cluster: the necks' strain is the whole's,
         # not a sum over the parts.
         placed = set()
         for k in ever_best(parts[q]):
+            if k not in counterpart:
+                continue
             for arrangement in ARRANGEMENTS:
-                copies = fused_copies(parts[q].sites[k], m, last=parts[last].sites[k], arrangement=arrangement)
+                copies = fused_copies(parts[q].sites[k], m, last=parts[last].sites[counterpart[k]],
+                                      arrangement=arrangement)
                 if copies is None:
                     continue
                 sites = np.concatenate(copies)
@@ -539,6 +552,16 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
     family, deformation, bonds, sites, converged = zip(*rows)
     return BoxCandidates(n, box, np.array(family), np.array(deformation, float), np.array(bonds, int),
                          tuple(np.asarray(s, int) for s in sites), np.array(converged, bool))
+
+
+def _same_shape(parts, other) -> dict:
+    """Index in ``other`` of each shape of ``parts`` cut the same way (round or faceted, segment
+    in units of sqrt(n), hole): a shape that fell into pieces in one of them has none."""
+    def keys(shapes):
+        return [(bool(f), round(float(s) / np.sqrt(shapes.n), 9), int(h))
+                for f, s, h in zip(shapes.faceted, shapes.segment, shapes.hole)]
+    index = {key: j for j, key in enumerate(keys(other))}
+    return {k: index[key] for k, key in enumerate(keys(parts)) if key in index}
 
 
 def box_bonds(sites, box) -> int:

@@ -516,8 +516,10 @@ def disk(R: int, tiling: str = "hexagon") -> Topology:
                     label=f"disk R={R}", tiling=tiling)
 
 
-def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False, tiling: str = "hexagon") -> np.ndarray:
-    """The ``n`` sites nearest to a segment of length ``segment`` centred on the origin along ``a1``.
+def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False, tiling: str = "hexagon",
+                  hole: int = 0) -> np.ndarray:
+    """The ``n`` sites nearest to a segment of length ``segment`` centred on the origin along ``a1``,
+    after the ``hole`` nearest ones.
 
     A near-circular aggregate for ``segment = 0``, a rounded strip (a finite cut-0 fibre) of width
     about ``n sqrt(3) / (2 segment)`` for long segments. Ties in distance are broken by the
@@ -531,8 +533,13 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False, tiling: s
     lattice can have, ``3 n - ceil(sqrt(12 n - 3))`` (Harary and Harborth, 1976). A Euclidean disk
     of 200 particles has two bonds fewer: at strong binding the faceted shapes win.
 
+    ``hole``: the same order with its first ``hole`` sites left empty, an aggregate with a hole
+    at its core: a hexagonal ring for ``faceted``, ``segment = 0`` and ``hole`` a hexagonal number
+    ``1 + 3 r (r + 1)``; a slot along the segment of a long one. Frustrated particles build up
+    stress towards an aggregate's centre, which a hole relieves at the cost of its rim's bonds.
+
     Finite-size predictions use both one-parameter families of single aggregates of exactly
-    ``n`` particles (``ansatz.finite_aggregates``).
+    ``n`` particles, solid and with holes (``ansatz.finite_aggregates``).
 
     On the triangle tiling the distances are those of the triangles' centres from a segment
     centred on the vertex (0, 0): a faceted shape of ``6 R^2`` triangles at ``segment = 0`` is
@@ -548,6 +555,8 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False, tiling: s
         Hexagonal rather than Euclidean distance.
     tiling : {'hexagon', 'triangle'}, optional
         The tiling (default ``'hexagon'``, the paper's particle).
+    hole : int, optional
+        Sites left empty nearest to the segment, ``>= 0`` (default 0: a solid aggregate).
 
     Returns
     -------
@@ -557,7 +566,7 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False, tiling: s
     Raises
     ------
     ValueError
-        For a bad ``n`` or ``segment``, or a request too large for memory.
+        For a bad ``n``, ``segment`` or ``hole``, or a request too large for memory.
 
     Examples
     --------
@@ -565,13 +574,17 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False, tiling: s
     >>> sites = topology.stadium_sites(7, faceted=True)  # a particle and its ring
     >>> len(sites), topology.cluster(sites).n_bonds == topology.most_bonds(7)
     (7, True)
+    >>> ring = topology.stadium_sites(6, faceted=True, hole=1)  # the ring without its centre
+    >>> topology.cluster(ring).n_bonds
+    6
     """
     n = integer("n", n, 1)
     segment = non_negative("segment", segment)
-    # Enough rows and columns to hold n sites around the segment.
-    half = int(np.ceil(segment / 2 + np.sqrt(n))) + 2
+    hole = integer("hole", hole, 0)
+    # Enough rows and columns to hold the hole and n sites around the segment.
+    half = int(np.ceil(segment / 2 + np.sqrt(n + hole))) + 2
     sublattices = tiling_facts(tiling)["sublattices"]
-    affordable(f"stadium_sites(n={n}, segment={segment:g})",
+    affordable(f"stadium_sites(n={n}, segment={segment:g}, hole={hole})",
                sublattices * (4 * half + 1) ** 2 * GRID_BYTES_PER_CELL["stadium_sites"])
     r = np.arange(-2 * half, 2 * half + 1)
     # One column per lattice coordinate, and the sublattice on tilings with several (triangles).
@@ -589,7 +602,7 @@ def stadium_sites(n: int, segment: float = 0.0, faceted: bool = False, tiling: s
     else:
         distance = np.round(np.hypot(along, across), 9)
         order = np.lexsort((np.arctan2(xy[:, 1], xy[:, 0]), np.round(np.hypot(*xy.T), 9), distance))
-    return sites[order[:n]]
+    return sites[order[hole:hole + n]]
 
 
 def most_bonds(n: int) -> int:

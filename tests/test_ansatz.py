@@ -118,16 +118,49 @@ def finite_400():
 
 
 @pytest.mark.parametrize("Gamma", [0.2, 0.5])
-def test_best_finite_aggregate_has_the_continuum_fibre_width(finite_400, Gamma):
-    """400 particles at ell = 2.5 hold a strip several W* long: the best single aggregate (a
-    finite, relaxed, free-boundary shape) has the width of the continuum optimum of Eq. 14, an
+def test_best_solid_finite_aggregate_has_the_continuum_fibre_width(finite_400, Gamma):
+    """400 particles at ell = 2.5 hold a strip several W* long: the best solid single aggregate (a
+    finite, relaxed, free-boundary shape) has the width of the continuum optimum of Eq. (11), an
     infinite periodic strip. Tolerance: the segment grid and the end caps."""
     particle, fa = finite_400
     g = float(ansatz.binding_energy_of(particle, 2.5, 0.9, Gamma))
-    best = int(fa.best(g))
     assert fa.converged.all()
+    solid = np.flatnonzero(fa.hole == 0)
+    best = solid[np.argmin(fa.total(g)[solid])]
     assert fa.length[best] > 3 * fa.width[best]  # a fibre, not a disk
     assert fa.width[best] == pytest.approx(2.5 * continuum.optimal_width(0.9, Gamma), rel=0.15)
+
+
+def _rim_rows(sites):
+    """Rows of a hexagonal ring: each shell of the lattice's own distance from the origin (6 d
+    sites at distance d, topology.NEIGHBOURS) counted by the fraction of it the ring fills."""
+    i, j = np.asarray(sites).T
+    distance = np.maximum(np.maximum(np.abs(i), np.abs(j)), np.abs(i + j))
+    assert distance.min() > 0  # a hole at the centre
+    return sum(np.count_nonzero(distance == d) / (6 * d) for d in np.unique(distance))
+
+
+@pytest.mark.parametrize("Gamma", [0.4, 0.5])
+def test_a_ring_whose_rim_is_a_fibre_of_optimal_width_beats_every_strip(finite_400, Gamma):
+    """A fibre's finite width relieves the frustration; its two ends cost line tension. A ring
+    closes the fibre on itself and has no ends: where 400 particles make a strip only about ten W*
+    long, the best single aggregate is a hexagonal ring, below every solid shape, and its rim is
+    the continuum's W* of an infinite straight strip (Eq. (11); rows sqrt(3)/2 apart). Tolerance:
+    the holes are complete hexagons only, and the ring is curved."""
+    particle, fa = finite_400
+    g = float(ansatz.binding_energy_of(particle, 2.5, 0.9, Gamma))
+    total = fa.total(g)
+    best = int(np.argmin(total))
+    assert fa.hole[best] > 0 and fa.faceted[best] and fa.segment[best] == 0
+    assert total[best] < total[fa.hole == 0].min()
+    width = _rim_rows(fa.sites[best]) * np.sqrt(3) / 2
+    assert width == pytest.approx(2.5 * continuum.optimal_width(0.9, Gamma), rel=0.1)
+
+
+def test_rim_rows_of_a_complete_ring():
+    """The rows of hexagon_sites(R) minus hexagon_sites(r) are R - r."""
+    ring = set(map(tuple, T.hexagon_sites(7).tolist())) - set(map(tuple, T.hexagon_sites(3).tolist()))
+    assert _rim_rows(np.array(sorted(ring))) == pytest.approx(4.0)
 
 
 def test_finite_aggregates_total_is_linear_in_g(finite_400):
@@ -186,3 +219,26 @@ def test_triangle_finite_aggregates_include_the_relaxed_hexagon_of_triangles():
 def test_finite_aggregates_rejects_empty_segments():
     with pytest.raises(ValueError, match="segments"):
         ansatz.finite_aggregates(pf.Hexagon.from_continuum(ell=2.5, nu=0.9), 10, segments=[])
+
+
+def test_finite_hole_sizes_are_complete_shapes_within_the_fraction():
+    """Hexagonal numbers 1 + 3r(r+1) (triangles: 6 r^2) up to fraction * n, at most
+    FINITE_HOLE_COUNT of them, each the size of a complete faceted shape (topology.stadium_sites
+    of that many sites is the hexagon, whose size is then a hexagonal number)."""
+    for n in (1, 20, 400, 5000):
+        holes = ansatz.finite_hole_sizes(n)
+        assert holes[0] == 0 and list(holes) == sorted(set(holes))
+        assert len(holes) <= 1 + ansatz.FINITE_HOLE_COUNT
+        assert max(holes) <= ansatz.FINITE_HOLE_FRACTION * n
+        for h in holes[1:]:
+            r = round((np.sqrt(12 * h - 3) - 3) / 6)
+            assert set(map(tuple, T.stadium_sites(h, faceted=True).tolist())) == set(
+                map(tuple, T.hexagon_sites(r).tolist()))
+    assert ansatz.finite_hole_sizes(400, fraction=0.0) == (0,)
+    assert ansatz.finite_hole_sizes(400, "triangle", fraction=0.1) == (0, 6, 24)
+
+
+@pytest.mark.parametrize("bad", [-0.1, 1.5, float("nan")])
+def test_finite_hole_sizes_reject_a_bad_fraction(bad):
+    with pytest.raises(ValueError, match="fraction"):
+        ansatz.finite_hole_sizes(100, fraction=bad)

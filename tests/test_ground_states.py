@@ -286,3 +286,14 @@ def test_a_ring_of_necks_strains_and_a_chain_does_not(weak_tension):
         whole = relax(particle, topology.cluster(np.concatenate(copies)), method="newton", tol=1e-8)
         strain[arrangement] = (whole.energy - apart) / necks
     assert strain["chain"] < 0.1 * g < g < strain["compact"]
+
+
+def test_box_candidates_without_holes_have_only_solid_shapes(particle):
+    """hole_fraction = 0 keeps the solid family (the shapes that fit the box without touching
+    themselves), and holes add candidates, never remove one."""
+    solid = box_candidates(particle, 40, 12, max_aggregates=2, hole_fraction=0.0)
+    holed = box_candidates(particle, 40, 12, max_aggregates=2)
+    for family in ("single", "aggregates2"):
+        assert np.count_nonzero(holed.family == family) > np.count_nonzero(solid.family == family) > 0
+    g = np.linspace(0.0, 0.05, 11)
+    assert np.all(holed.best_energy(g) <= solid.best_energy(g) + 1e-12)

@@ -351,6 +351,32 @@ def test_faceted_stadium_of_a_hexagonal_number_is_the_hexagon(R):
     assert set(map(tuple, T.stadium_sites(n, faceted=True).tolist())) == set(map(tuple, T.hexagon_sites(R).tolist()))
 
 
+@pytest.mark.parametrize("R,r", [(1, 0), (4, 2), (9, 5)])
+def test_faceted_stadium_with_a_hexagonal_hole_is_the_hexagonal_ring(R, r):
+    """Leaving the 1 + 3r(r+1) nearest sites empty turns the hexagon of radius R into the ring
+    between the hexagons of radii r and R, built here as a difference of two hexagons."""
+    hole = 1 + 3 * r * (r + 1)
+    n = 1 + 3 * R * (R + 1) - hole
+    ring = set(map(tuple, T.hexagon_sites(R).tolist())) - set(map(tuple, T.hexagon_sites(r).tolist()))
+    sites = T.stadium_sites(n, faceted=True, hole=hole)
+    assert sites.shape == (n, 2) and set(map(tuple, sites.tolist())) == ring
+
+
+@pytest.mark.parametrize("faceted", [False, True])
+def test_a_hole_along_a_long_segment_is_a_slot(faceted):
+    """On a long segment the emptied sites are those nearest to it: a slot along a1, inside the
+    strip (every emptied site lies between the strip's sites on both sides across a1)."""
+    n, hole, segment = 300, 20, 40.0
+    solid = T.stadium_sites(n + hole, segment, faceted=faceted)
+    holed = T.stadium_sites(n, segment, faceted=faceted, hole=hole)
+    emptied = set(map(tuple, solid.tolist())) - set(map(tuple, holed.tolist()))
+    assert len(emptied) == hole and len(holed) == n
+    y_holed = T.site_positions(holed)[:, 1]
+    for x, y in T.site_positions(np.array(sorted(emptied))):
+        assert y_holed.min() < y < y_holed.max()
+        assert abs(y) < 1.0  # on the segment's row or next to it
+
+
 @pytest.mark.parametrize("R", [1, 2, 5])
 def test_faceted_triangle_stadium_of_6R2_is_the_hexagon_of_triangles(R):
     """On the triangle tiling the 6 R^2 triangles nearest to a vertex in the lattice's own
@@ -436,6 +462,12 @@ def test_stadium_rejects_bad_n(bad):
 def test_stadium_rejects_bad_segment(bad):
     with pytest.raises(ValueError, match="segment"):
         T.stadium_sites(10, bad)
+
+
+@pytest.mark.parametrize("bad", [-1, 2.5, True])
+def test_stadium_rejects_bad_hole(bad):
+    with pytest.raises(ValueError, match="hole must be"):
+        T.stadium_sites(10, hole=bad)
 
 
 def _all_shapes(n):

@@ -83,7 +83,7 @@ rule montecarlo_finite_aggregates:
         # The box each particle number runs in (candidate ground states of that box).
         box=lambda w: {MC["n"]: MC["box"], MC["large_n"]: MC["large_box"], MC["dense_n"]: MC["dense_box"]}[int(w.n)],
         tiling="hexagon",
-        **pick(MC, "ell", "eps", "finite_Gamma_count", "finite_Gamma_max"),
+        **pick(MC, "ell", "eps", "finite_Gamma_count", "finite_Gamma_max", "finite_hole_fraction"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:

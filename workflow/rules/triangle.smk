@@ -75,7 +75,7 @@ rule triangle_finite_aggregates:
         box=None,  # no box candidates on the triangle tiling
         tiling="triangle",
         **pick(TRIANGLE_MC, "ell", "eps"),
-        **pick(MC, "finite_Gamma_count", "finite_Gamma_max"),
+        **pick(MC, "finite_Gamma_count", "finite_Gamma_max", "finite_hole_fraction"),
     conda:
         "../envs/pyfrustrate.yaml"
     log:

@@ -1,5 +1,6 @@
 """Finite-size prediction for a Monte Carlo box of n particles: the relaxed single aggregates of
-exactly n particles, compact to elongated, round and faceted (ansatz.finite_aggregates), and the best of them at
+exactly n particles, compact to elongated, round and faceted, solid and with holes up to
+finite_hole_fraction of n (ansatz.finite_aggregates), and the best of them at
 each line tension Gamma; and, on the hexagon tiling, the candidate ground states of the box
 (ground_states.box_candidates: single aggregates, a fibre wrapping the box, several aggregates, the
 gas), saved with the prefix candidate_. The triangle tiling (Fig. S6) gets the single aggregates
@@ -15,15 +16,16 @@ s = snakemake.params  # noqa: F821 (provided by snakemake; each value named in t
 n, nu, box = snakemake.params.n, snakemake.params.nu, snakemake.params.box  # noqa: F821
 with logging_to(snakemake.log[0]):  # noqa: F821
     particle = particle_class(s["tiling"]).from_continuum(s["ell"], nu, eps=s["eps"])
-    shapes = ansatz.finite_aggregates(particle, n)
+    holes = ansatz.finite_hole_sizes(n, s["tiling"], fraction=s["finite_hole_fraction"])
+    shapes = ansatz.finite_aggregates(particle, n, holes=holes)
     Gamma = np.linspace(0.0, s["finite_Gamma_max"], s["finite_Gamma_count"])
     g = ansatz.binding_energy_of(particle, s["ell"], nu, Gamma)
     best = shapes.best(g)
-    print(f"n={n} nu={nu}: {len(shapes.segment)} shapes, all converged: {bool(shapes.converged.all())}; "
+    print(f"n={n} nu={nu}: {len(shapes.segment)} shapes (holes {holes}), all converged: {bool(shapes.converged.all())}; "
           f"best width {shapes.width[best].min():.1f}-{shapes.width[best].max():.1f} over Gamma in [0, {s['finite_Gamma_max']:g}]")
     box_states = {}
     if s["tiling"] == "hexagon":
-        candidates = ground_states.box_candidates(particle, n, box)
+        candidates = ground_states.box_candidates(particle, n, box, hole_fraction=s["finite_hole_fraction"])
         families = sorted(set(candidates.best_family(g).tolist()))
         print(f"box {box}: {len(candidates.family)} candidate ground states; best over Gamma in [0, {s['finite_Gamma_max']:g}]: {families}")
         box_states = candidates.arrays()
