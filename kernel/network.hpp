@@ -248,11 +248,7 @@ struct Network {
 
     PeriodMap period_map(const Vector& u) const { return PeriodMap(topology, u.data() + n_corner_dof()); }
 
-    bool has_image(int p) const {
-        for (int s = 0; s < C; ++s)
-            if (topology.image[p][s][0] != 0 || topology.image[p][s][1] != 0) return true;
-        return false;
-    }
+    bool has_image(int p) const { return topology.has_image(p); }
 
     // Particle p's frame (tiling.hpp), or nullptr where it is the identity (the common case, kept
     // free of any arithmetic).

@@ -134,7 +134,7 @@ inline void remove_rigid_motion(const Topology& t, Vector& displacement) {
         const Eigen::Vector2d r = t.reference[c] - centroid;
         displacement.segment<2>(2 * c) -= angle * Eigen::Vector2d(-r.y(), r.x());
     }
-    const int n_vectors = t.periodicity == Periodicity::Bulk ? 2 : (t.periodicity == Periodicity::Fiber ? 1 : 0);
+    const int n_vectors = t.n_period_vectors();
     for (int v = 0; v < n_vectors; ++v) {
         const Eigen::Vector2d p = period_ref.segment<2>(2 * v);
         displacement.segment<2>(2 * nc + 2 * v) -= angle * Eigen::Vector2d(-p.y(), p.x());

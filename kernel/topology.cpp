@@ -70,6 +70,14 @@ int Topology::n_period_parameters() const {
     }
 }
 
+int Topology::n_period_vectors() const {
+    switch (periodicity) {
+        case Periodicity::Fiber: return 1;
+        case Periodicity::Bulk: return 2;
+        default: return 0;
+    }
+}
+
 Eigen::VectorXd Topology::reference_period_parameters() const {
     Eigen::VectorXd p = Eigen::VectorXd::Zero(n_period_parameters());
     if (periodicity == Periodicity::None) return p;

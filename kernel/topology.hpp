@@ -50,6 +50,15 @@ struct Topology {
     int n_corners() const { return static_cast<int>(reference.size()); }
     // Number of period-map parameters: fibre (tx, ty[, bend]); bulk (t1x, t1y, t2x, t2y).
     int n_period_parameters() const;
+    // Number of period vectors: 2 (bulk), 1 (fibre), 0.
+    int n_period_vectors() const;
+    // Whether any corner slot of particle p lies in a periodic image of the cell (inline: the
+    // network asks it for every particle of every evaluation).
+    bool has_image(int p) const {
+        for (const auto& slot : image[p])
+            if (slot[0] != 0 || slot[1] != 0) return true;
+        return false;
+    }
     // Reference values of the period-map parameters.
     Eigen::VectorXd reference_period_parameters() const;
     // Reference state of all degrees of freedom: corners (x0, y0, x1, y1, ...) then the

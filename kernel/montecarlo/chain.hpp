@@ -728,7 +728,7 @@ inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<doub
     const Topology topology = cluster_topology(tiling(), parent ? aligned : cl.unwrapped, cl);
     const int nc = topology.n_corners(), np = topology.n_particles();
     const int n_state = 2 * nc + topology.n_period_parameters();
-    const int n_periods = topology.periodicity == Periodicity::Bulk ? 2 : (topology.periodicity == Periodicity::Fiber ? 1 : 0);
+    const int n_periods = topology.n_period_vectors();
     const Vector period_reference = topology.reference_period_parameters();
     // The start: each corner's stored displacement, u = w + A r_ref (kSiteRecord; corners shared
     // by particles of one parent agree; particles of different parents share none), and for a
@@ -768,9 +768,10 @@ inline double MonteCarlo<Model>::warm_energy(const Cluster& cl, std::vector<doub
             unknown_particle = p;
             // The rigid fit places corners in the cell, not their periodic images: a particle
             // with a slot across the cell's seam starts cold.
-            for (int s = 0; s < C; ++s)
-                if (topology.image[p][s][0] != 0 || topology.image[p][s][1] != 0) warm = false;
-            if (!warm) break;
+            if (topology.has_image(p)) {
+                warm = false;
+                break;
+            }
             std::vector<int> known_corner(nc);
             for (int c = 0; c < nc; ++c) known_corner[c] = count[c] > 0;
             misfit = fit_particle_corners(topology, p, start, known_corner, &new_dof);
