@@ -595,6 +595,13 @@ class FiniteAggregates(EnergiesLinearInG):
         """
         return {"n": self.n, "sites": np.stack(self.sites), **{k: getattr(self, k) for k in self._FIELDS}}
 
+    def __add__(self, other: "FiniteAggregates") -> "FiniteAggregates":
+        """The shapes of both, ``self``'s first (aggregates of the same ``n``)."""
+        if not isinstance(other, FiniteAggregates) or other.n != self.n:
+            return NotImplemented
+        return FiniteAggregates(self.n, sites=self.sites + other.sites,
+                                **{k: np.concatenate([getattr(self, k), getattr(other, k)]) for k in self._FIELDS})
+
 
 def energy_above_best_single(energy: float, g: float, prediction) -> float:
     """How far a Monte Carlo state lies above the best single aggregate of a saved finite-size

@@ -242,3 +242,18 @@ def test_finite_hole_sizes_are_complete_shapes_within_the_fraction():
 def test_finite_hole_sizes_reject_a_bad_fraction(bad):
     with pytest.raises(ValueError, match="fraction"):
         ansatz.finite_hole_sizes(100, fraction=bad)
+
+
+def test_finite_aggregates_add_up_to_the_family_with_both_holes():
+    """Shapes relaxed apart and joined (FiniteAggregates + FiniteAggregates) are those relaxed
+    together, in another order; aggregates of different n do not add."""
+    p = pf.Hexagon.from_continuum(ell=2.5, nu=0.9, eps=0.01)
+    both = ansatz.finite_aggregates(p, 30, segments=[0.0, 5.0], holes=[0, 1])
+    joined = (ansatz.finite_aggregates(p, 30, segments=[0.0, 5.0], holes=[0])
+              + ansatz.finite_aggregates(p, 30, segments=[0.0, 5.0], holes=[1]))
+    key = np.lexsort((joined.hole, joined.segment, joined.faceted))
+    np.testing.assert_allclose(joined.deformation[key], both.deformation, rtol=1e-9)
+    np.testing.assert_array_equal(joined.bonds[key], both.bonds)
+    assert [joined.sites[k].tolist() for k in key] == [s.tolist() for s in both.sites]
+    with pytest.raises(TypeError):
+        joined + ansatz.finite_aggregates(p, 31, segments=[0.0], holes=[0])
