@@ -59,6 +59,10 @@ def plotted_dimensions(run):
     return strip_dimensions(size, len(coords)) if kind == "fiber" else gyration_dimensions(coords)
 
 
+#: The band under a step where the best aggregate is a ring (a hole at its core).
+RING_BAND = dict(lw=5, alpha=0.3, solid_capstyle="butt")
+
+
 def main(run_paths, finite_paths, outputs, provenance=None):
     runs = [load_npz(p) for p in run_paths]
     finite = [load_npz(p) for p in finite_paths]
@@ -78,9 +82,16 @@ def main(run_paths, finite_paths, outputs, provenance=None):
             continue
         n = int(f["n"])
         best = f["best"]
+        # Where the best aggregate is a ring (a hole at its core), its step is underlaid by a band.
+        ring = f["hole"][best] > 0 if "hole" in f else np.zeros(len(best), bool)
         for ax, key in zip(axes, ("width", "length")):
             ax.step(f["Gamma"], f[key][best], where="mid", color=colors.get(n, "0.5"), lw=1.2,
                     label=f"best aggregate of {n}")
+            if ring.any():
+                ax.step(f["Gamma"], np.where(ring, f[key][best], np.nan), where="mid", color=colors.get(n, "0.5"),
+                        **RING_BAND)
+                # One legend entry for every size's band, in neutral grey.
+                ax.plot([], [], color="0.5", **RING_BAND, label="band: the best is a ring")
     for r in runs:
         if abs(float(r["nu"]) - nu_fibre) > 1e-9:
             continue
@@ -94,6 +105,8 @@ def main(run_paths, finite_paths, outputs, provenance=None):
     for ax, name in zip(axes, ("width", "length")):
         handles, labels = ax.get_legend_handles_labels()
         unique = dict(zip(labels, handles))
+        if "band: the best is a ring" in unique:  # last, after every step and marker it explains
+            unique["band: the best is a ring"] = unique.pop("band: the best is a ring")
         ax.legend(unique.values(), unique.keys(), loc="upper left")
         ax.set_xlabel(plotting.LABELS["Gamma"])
         ax.set_ylabel(f"aggregate {name} ({plotting.LENGTH_UNIT})")
