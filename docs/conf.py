@@ -106,6 +106,8 @@ measured_sources = {
     "benchmarks/results/validation_samples.csv":
         "python benchmarks/bench_validation_samples.py --cases fibre:15 fibre:25:0.8 disk:660 disk:1634:0.8 "
         "--sweeps 4 --repeats 2 --csv benchmarks/results/validation_samples.csv",
+    "benchmarks/results/finite_holes.csv":
+        "python benchmarks/bench_finite_holes.py --repeats 2 --csv benchmarks/results/finite_holes.csv",
     "benchmarks/results/allocator.csv":
         "python benchmarks/bench_allocator.py --cases disk:660 fibre:15 fibre:25:0.8 --repeats 3 "
         "--csv benchmarks/results/allocator.csv",
