@@ -72,7 +72,8 @@ def main():
                     print("  ".join(f"{v:.4g}" if isinstance(v, float) else str(v) for v in rows[-1].values()),
                           flush=True)
     for case in args.cases:
-        ratios = sorted({r["repeat"]: r["cpu_ratio"] for r in rows if r["case"] == case and r["variant"] == "holes"}.values())
+        per_round = {r["repeat"]: r["cpu_ratio"] for r in rows if r["case"] == case and r["variant"] == "holes"}
+        ratios = sorted(per_round.values())
         gains = {r["Gamma"]: r["gain_over_solid"] for r in rows if r["case"] == case and r["variant"] == "holes"}
         print(f"# {case}: holes / solid CPU {ratios[len(ratios) // 2]:.3f} (median of {len(ratios)}); gain in bulk "
               f"energies by Gamma {', '.join(f'{G:g}: {x:.2f}' for G, x in gains.items())}")

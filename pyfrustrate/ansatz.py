@@ -391,9 +391,9 @@ def edge_line_tension(cut: int, tiling: str = "hexagon") -> float:
 #: aggregate (0) to a strip about ten times longer than wide (4).
 FINITE_SEGMENTS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0)
 
-#: Largest hole of ``finite_hole_sizes``, as a fraction of the aggregate's particles: a ring whose
-#: rim is a fibre of optimal width holds a hole of 0.2-0.3 n at 400-800 particles (ell = 2.5-5,
-#: nu = 0.9, Gamma = 0.3-0.5).
+#: Largest hole of ``finite_hole_sizes``, as a fraction of the aggregate's particles: the best
+#: rings found held up to about 0.4 n (400 particles at ell = 2.5, nu = 0.9, Gamma = 0.4, whose rim
+#: is a fibre of optimal width).
 FINITE_HOLE_FRACTION = 0.5
 #: Most holes of ``finite_hole_sizes`` besides none: every complete shape up to 800 particles,
 #: evenly spaced radii beyond.

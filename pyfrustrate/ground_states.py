@@ -14,7 +14,8 @@ fit without touching their periodic images):
     is a slab;
 ``aggregates{m}``
     ``m`` separate aggregates of ``n / m`` particles each (the remainder in the last), all of the
-    same shape (the solid shapes, and the compact ones with holes: ``_part_shapes``); ``m`` runs over ``aggregate_counts(n)``: every count to 16, then counts 1.25x
+    same shape (the solid shapes, and the compact ones with holes: ``_part_shapes``); ``m`` runs
+    over ``aggregate_counts(n)``: every count to 16, then counts 1.25x
     apart while the aggregates keep at least 7 particles, since at low line tension the best
     aggregate is small and a large box holds many of them (800 particles at ell = 5, nu = 0.4, Gamma
     = 0.2: seven aggregates; the best of at most four lay 2-12 bulk energies above where annealing

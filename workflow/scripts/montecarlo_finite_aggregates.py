@@ -21,7 +21,8 @@ with logging_to(snakemake.log[0]):  # noqa: F821
     Gamma = np.linspace(0.0, s["finite_Gamma_max"], s["finite_Gamma_count"])
     g = ansatz.binding_energy_of(particle, s["ell"], nu, Gamma)
     best = shapes.best(g)
-    print(f"n={n} nu={nu}: {len(shapes.segment)} shapes (holes {holes}), all converged: {bool(shapes.converged.all())}; "
+    print(f"n={n} nu={nu}: {len(shapes.segment)} shapes (holes {holes}), "
+          f"all converged: {bool(shapes.converged.all())}; "
           f"best width {shapes.width[best].min():.1f}-{shapes.width[best].max():.1f} over Gamma in [0, {s['finite_Gamma_max']:g}]")
     box_states = {}
     if s["tiling"] == "hexagon":
