@@ -362,6 +362,14 @@ def test_faceted_stadium_with_a_hexagonal_hole_is_the_hexagonal_ring(R, r):
     assert sites.shape == (n, 2) and set(map(tuple, sites.tolist())) == ring
 
 
+@pytest.mark.parametrize("R,r", [(2, 1), (5, 3)])
+def test_faceted_triangle_stadium_with_a_hole_of_6r2_is_the_ring_of_triangles(R, r):
+    """The same on the triangle tiling: the hexagon of triangles of side R without that of side r."""
+    ring = set(map(tuple, T.triangle_hexagon_sites(R).tolist())) - set(map(tuple, T.triangle_hexagon_sites(r).tolist()))
+    sites = T.stadium_sites(6 * (R * R - r * r), faceted=True, tiling="triangle", hole=6 * r * r)
+    assert set(map(tuple, sites.tolist())) == ring
+
+
 @pytest.mark.parametrize("faceted", [False, True])
 def test_a_hole_along_a_long_segment_is_a_slot(faceted):
     """On a long segment the emptied sites are those nearest to it: a slot along a1, inside the
