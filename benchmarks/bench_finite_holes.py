@@ -3,12 +3,12 @@ and what they find.
 
 ``ground_states.box_candidates(particle, n, box, hole_fraction=f)`` for ``f = 0`` (the solid
 shapes only) and the default ``f`` (every shape with each complete hexagonal hole up to ``f n``
-sites as the single aggregate, the compact shapes with holes as the parts of several), alternately,
-A B (``--repeats`` rounds), at each case ``n:box:ell:nu``: the quick profile's box, and 400
-particles at ell = 2.5, where a strip of them is only about ten W* long. Per run: the process CPU and its
-ratio to the solid run of the same round, the number of candidates, and at each ``--Gamma`` how far
-the best candidate lies below the best solid one, in bulk particle energies (0: the holes change
-nothing there), its family and the empty sites it encloses.
+sites as the single aggregate, the compact shapes with holes as the parts of several),
+alternately, A B (``--repeats`` rounds), at each case ``n:box:ell:nu``: the quick profile's box,
+and 400 particles at ell = 2.5, where a strip of them is only about ten W* long. Per run: the
+process CPU and its ratio to the solid run of the same round, the number of candidates, and at
+each ``--Gamma`` how far the best candidate lies below the best solid one, in bulk particle
+energies (0: the holes change nothing there), its family and the empty sites it encloses.
 
 Usage: ``python benchmarks/bench_finite_holes.py [--cases 200:60:5:0.9 400:85:2.5:0.9]
 [--repeats 2] [--csv benchmarks/results/finite_holes.csv]`` (the command that wrote the committed
