@@ -16,6 +16,7 @@ measure of how far annealing got).
 import numpy as np
 
 from pyfrustrate import continuum, plotting
+from pyfrustrate.ansatz import FiniteAggregates
 from pyfrustrate.ground_states import aggregate_structure
 from pyfrustrate.io import load_npz, logging_to
 from pyfrustrate.provenance import for_job
@@ -83,7 +84,7 @@ def main(run_paths, finite_paths, outputs, provenance=None):
         n = int(f["n"])
         best = f["best"]
         # Where the best aggregate is a ring (a hole at its core), its step is underlaid by a band.
-        ring = f["hole"][best] > 0 if "hole" in f else np.zeros(len(best), bool)
+        ring = FiniteAggregates.from_arrays(f).hole[best] > 0
         for ax, key in zip(axes, ("width", "length")):
             ax.step(f["Gamma"], f[key][best], where="mid", color=colors.get(n, "0.5"), lw=1.2,
                     label=f"best aggregate of {n}")

@@ -432,7 +432,7 @@ def aggregate_counts(n: int, max_aggregates: int | None = None) -> list[int]:
 
 def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None,
                    hole_fraction: float = ansatz.FINITE_HOLE_FRACTION, method: str = "lbfgs",
-                   tol: float = 1e-5) -> BoxCandidates:
+                   tol: float = 1e-5, single: ansatz.FiniteAggregates | None = None) -> BoxCandidates:
     """Candidate ground states of ``n`` particles in a periodic ``box x box`` lattice (module
     docstring), relaxed with ``method`` to ``tol``. Hexagon tiling.
 
@@ -455,6 +455,10 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
         As for ``relax``.
     tol : float, optional
         As for ``relax``.
+    single : FiniteAggregates, optional
+        The single aggregates of ``n`` particles, already relaxed (a finite-size prediction's
+        own ``ansatz.finite_aggregates``): used as they are instead of being relaxed again, so
+        ``hole_fraction`` then applies to the parts only.
 
     Returns
     -------
@@ -465,7 +469,8 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
     TypeError
         If ``particle`` is not a particle model.
     ValueError
-        For a triangle-tiling particle, bad ``n`` or ``box``, or a box too large for memory.
+        For a triangle-tiling particle, bad ``n`` or ``box``, a box too large for memory, or
+        ``single`` of another ``n``.
 
     Examples
     --------
@@ -489,8 +494,11 @@ def box_candidates(particle, n: int, box: int, max_aggregates: int | None = None
     rows = []  # (family, deformation, bonds, sites, converged)
     kwargs: dict[str, Any] = {"x0": "linear"} if method == "lbfgs" else {}
 
-    single = ansatz.finite_aggregates(particle, n, holes=ansatz.finite_hole_sizes(n, fraction=hole_fraction),
-                                      method=method, tol=tol)
+    if single is None:
+        single = ansatz.finite_aggregates(particle, n, holes=ansatz.finite_hole_sizes(n, fraction=hole_fraction),
+                                          method=method, tol=tol)
+    elif single.n != n:
+        raise ValueError(f"single: aggregates of {single.n} particles, not n = {n}")
     for k, sites in enumerate(single.sites):
         if not _touches_itself(sites, box):
             rows.append(("single", single.deformation[k], single.bonds[k], _in_box(sites, box), single.converged[k]))

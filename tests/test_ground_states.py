@@ -297,3 +297,16 @@ def test_box_candidates_without_holes_have_only_solid_shapes(particle):
         assert np.count_nonzero(holed.family == family) > np.count_nonzero(solid.family == family) > 0
     g = np.linspace(0.0, 0.05, 11)
     assert np.all(holed.best_energy(g) <= solid.best_energy(g) + 1e-12)
+
+
+def test_box_candidates_reuse_given_single_aggregates(particle):
+    """Single aggregates relaxed beforehand (the finite-size rule's own) give the same candidates as
+    those box_candidates relaxes itself; aggregates of another n are refused."""
+    from pyfrustrate import ansatz
+    own = box_candidates(particle, 40, 12, max_aggregates=2)
+    given = box_candidates(particle, 40, 12, max_aggregates=2, single=ansatz.finite_aggregates(particle, 40))
+    np.testing.assert_array_equal(given.family, own.family)
+    np.testing.assert_allclose(given.deformation, own.deformation, rtol=1e-12)
+    np.testing.assert_array_equal(given.bonds, own.bonds)
+    with pytest.raises(ValueError, match="single"):
+        box_candidates(particle, 41, 12, max_aggregates=2, single=ansatz.finite_aggregates(particle, 40))

@@ -26,7 +26,9 @@ with logging_to(snakemake.log[0]):  # noqa: F821
           f"best width {shapes.width[best].min():.1f}-{shapes.width[best].max():.1f} over Gamma in [0, {s['finite_Gamma_max']:g}]")
     box_states = {}
     if s["tiling"] == "hexagon":
-        candidates = ground_states.box_candidates(particle, n, box, hole_fraction=s["finite_hole_fraction"])
+        # The single aggregates just relaxed are the box's single candidates: not relaxed again.
+        candidates = ground_states.box_candidates(particle, n, box, hole_fraction=s["finite_hole_fraction"],
+                                                  single=shapes)
         families = sorted(set(candidates.best_family(g).tolist()))
         print(f"box {box}: {len(candidates.family)} candidate ground states; best over Gamma in [0, {s['finite_Gamma_max']:g}]: {families}")
         box_states = candidates.arrays()
