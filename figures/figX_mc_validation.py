@@ -4,9 +4,10 @@
 (a) Energy per particle including binding of the quenched fibres against their width W (markers,
 one per seed; the panels' shared key is the figure's bottom-right slot), relative to the ansatz's best straight fibre, with the ansatz's straight fibres
 (line) and its and the continuum's optimal widths (vertical lines). (b) The same for disks of n
-particles, the ansatz's compact hexagons as the line. (c) The two-sided checks: per check, the final
-energy of the run seeded as the competitor minus that of the run seeded as the predicted state,
-per seed (markers as in (a)); a cross where the predicted state did not persist.
+particles, the ansatz's compact hexagons as the line. (c) The two-sided checks: the final energy of the run
+seeded as the competitor minus that of the run seeded as the predicted state, a column per pair
+of states and nu, a colour per Gamma, a marker per seed (as in (a)); a cross where the predicted
+state did not persist.
 (d) Grand-canonical sampling of one fibre (outline moves): its mean width <W>
 (bars: its standard deviation there) against the chemical potential mu, relative to the ansatz's
 threshold min_W e(W), one marker per seed, a colour per temperature; the ansatz's width at T = 0
@@ -34,25 +35,45 @@ def load(path):
 SHORT_STATE = {"one disk": "disk", "two disks": "2 disks", "a fibre wrapping the box": "fibre"}
 
 
+def two_sided_columns(checks):
+    """The checks grouped into columns, one per (predicted state, competitor, nu) in the order they
+    come: the paper profile's three Gamma of one pair share a column (told apart by colour), so
+    that eight checks fit a panel of print width."""
+    columns = {}
+    for check in checks:
+        columns.setdefault((check["predicted_state"], check["competitor_state"], check["nu"]), []).append(check)
+    return list(columns.items())
+
+
 def draw_two_sided(ax, checks, colors):
-    """One column per check: the competitor's final energy minus the predicted run's with the same
-    seed (above zero: the prediction holds on that side), a filled marker where the predicted
-    state persisted, a cross where it did not."""
-    for x, check in enumerate(checks):
-        color = colors.get(check["Gamma"], "0.3")
-        margin = np.array(check["competitor_energy_over_g"]) - np.array(check["predicted_energy_over_g"])
-        offsets = np.linspace(-0.15, 0.15, len(margin)) if len(margin) > 1 else np.zeros(1)
-        for k, (dx, value, kept) in enumerate(zip(offsets, margin, check["persists"])):
-            ax.plot(x + dx, value, SEED_MARKERS[k % len(SEED_MARKERS)] if kept else "x", ms=4,
-                    color=color, mec=color if kept else "#b2182b")
+    """One column per pair of states and nu, one marker per check and seed: the competitor's final
+    energy minus the predicted run's with the same seed (above zero: the prediction holds on that
+    side), filled where the predicted state persisted, a cross where it did not. A check at a Gamma
+    without a colour of (a)-(b) is grey, its Gamma written under its column."""
+    columns = two_sided_columns(checks)
+    labels = []
+    for x, ((predicted, competitor, nu), group) in enumerate(columns):
+        spread = np.linspace(-0.3, 0.3, len(group)) if len(group) > 1 else np.zeros(1)
+        for dx_check, check in zip(spread, group):
+            color = colors.get(check["Gamma"], "0.3")
+            margin = np.array(check["competitor_energy_over_g"]) - np.array(check["predicted_energy_over_g"])
+            width = 0.24 / len(group)
+            offsets = np.linspace(-width, width, len(margin)) if len(margin) > 1 else np.zeros(1)
+            for k, (dx, value, kept) in enumerate(zip(offsets, margin, check["persists"])):
+                ax.plot(x + dx_check + dx, value, SEED_MARKERS[k % len(SEED_MARKERS)] if kept else "x", ms=4,
+                        color=color, mec=color if kept else "#b2182b")
+        label = (f"{SHORT_STATE.get(predicted, predicted)} vs\n{SHORT_STATE.get(competitor, competitor)}\n"
+                 rf"$\nu$ = {nu:g}")
+        uncoloured = sorted({c["Gamma"] for c in group if c["Gamma"] not in colors})
+        if uncoloured:
+            label += "\n" + rf"$\Gamma$ = {', '.join(f'{G:g}' for G in uncoloured)}"
+        labels.append(label)
     ax.axhline(0.0, color="0.4", lw=0.6)
     low, high = ax.get_ylim()
     ax.set_ylim(min(low, -0.1 * high), max(high, 1.0) * 1.15)  # zero, the line a failure would cross, in view
-    ax.set_xticks(range(len(checks)))
-    ax.set_xticklabels([f"{SHORT_STATE.get(c['predicted_state'], c['predicted_state'])} vs\n"
-                        f"{SHORT_STATE.get(c['competitor_state'], c['competitor_state'])}\n"
-                        rf"$\nu$ = {c['nu']:g}" for c in checks])
-    ax.set_xlim(-0.5, max(len(checks), 1) - 0.5)
+    ax.set_xticks(range(len(columns)))
+    ax.set_xticklabels(labels)
+    ax.set_xlim(-0.5, max(len(columns), 1) - 0.5)
     ax.set_ylabel(r"$(E_{\rm competitor} - E_{\rm predicted})\,/\,g$")
     ax.set_title("two-sided checks")
 
@@ -126,15 +147,21 @@ def grand_panels(axes, validation):
     ax_gap.legend(handles=handles + [star], loc="upper right", frameon=False)  # the crossing falls to the right
 
 
+def layout():
+    """The page at print width: (a)-(c) on top, (d)-(e) below, the key in the sixth slot."""
+    width_cm, height_cm = plotting.PAGE_WIDTH_CM, 12.4
+    fig = plotting.figure(width_cm, height_cm)
+
+    def slot(column, bottom):
+        return fig.add_axes([(1.5 + 5.8 * column) / width_cm, bottom / height_cm, 4.3 / width_cm, 4.3 / height_cm])
+
+    return fig, [slot(k, 7.3) for k in range(3)], [slot(k, 1.1) for k in range(2)], slot(2, 1.1)
+
+
 def main(validation_path, point_paths, outputs, provenance=None):
     validation = load(validation_path)
     points = {(p["scan"], p["nu"], p["Gamma"]): p for p in map(load, point_paths)}
-    width_cm, height_cm = plotting.PAGE_WIDTH_CM, 12.4
-    fig = plotting.figure(width_cm, height_cm)
-    axes = [fig.add_axes([(1.5 + 5.8 * k) / width_cm, 7.3 / height_cm, 4.3 / width_cm, 4.3 / height_cm])
-            for k in range(3)]
-    grand_axes = [fig.add_axes([(1.5 + 5.8 * k) / width_cm, 1.1 / height_cm, 4.3 / width_cm, 4.3 / height_cm])
-                  for k in range(2)]
+    fig, axes, grand_axes, key_axes = layout()
     gammas = sorted({r["Gamma"] for r in validation["points"]})
     colors = dict(zip(gammas, ("#1b9e77", "#d95f02", "#7570b3")))
     for ax, scan in zip(axes, ("fibre", "disk")):
@@ -168,8 +195,7 @@ def main(validation_path, point_paths, outputs, provenance=None):
     draw_two_sided(axes[2], validation["two_sided"], colors)
     grand_panels(grand_axes, validation)
     seeds = sorted({seed for r in validation["points"] for seed in r["seeds"]})
-    draw_key(fig.add_axes([(1.5 + 5.8 * 2) / width_cm, 1.1 / height_cm, 4.3 / width_cm, 4.3 / height_cm]),
-             colors, seeds)
+    draw_key(key_axes, colors, seeds)
     for ax, letter in zip(axes + grand_axes, "abcde"):
         plotting.panel_label(ax, letter)
     plotting.save(fig, outputs, provenance)

@@ -398,3 +398,38 @@ def test_fused_predictions_are_one_cluster_in_the_mc_figures():
              "verdict_lobes": np.array([3.0, nan, nan]), "verdict_lobes_predicted": np.full(3, nan)}
     assert [scale.verdict_text(mixed, k) for k in range(3)] == ["3 fused disks (1 disk)", "2 disks (1)",
                                                                "1 fibre, 9 rows (10)"]
+
+
+def test_mc_validation_fits_the_paper_profiles_two_sided_checks():
+    """figX_mc_validation's panel (c) at the paper profile's shape: its eight two-sided checks
+    (config/paper.yaml), three seeds each, one a failure, drawn into the figure's own layout
+    beside a key of three Gamma pass the figure check: no tick label overlaps another or the key.
+    The energies are placeholders; only the page is checked."""
+    import importlib.util
+
+    import yaml
+
+    spec = importlib.util.spec_from_file_location("figX_mc_validation", ROOT / "figures" / "figX_mc_validation.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    paper = yaml.safe_load((ROOT / "config" / "paper.yaml").read_text())["montecarlo"]["validation"]
+    words = {("disk", "two_disks"): ("one disk", "two disks"),
+             ("disk", "other_kind"): ("one disk", "a fibre wrapping the box"),
+             ("fibre", "other_kind"): ("a fibre wrapping the box", "one disk")}
+    checks = []
+    for k, point in enumerate(paper["two_sided"]):
+        predicted, competitor = words[point["scan"], point["competitor"]]
+        checks.append(dict(nu=point["nu"], Gamma=point["Gamma"], predicted_state=predicted, competitor_state=competitor,
+                           predicted_energy_over_g=[0.0, 0.0, 0.0], competitor_energy_over_g=[3.0 + k, 5.0, -1.0 * (k == 2)],
+                           persists=[True, True, k != 2]))
+    colors = dict(zip(paper["Gamma"], ("#1b9e77", "#d95f02", "#7570b3")))
+    fig, axes, grand_axes, key_axes = module.layout()
+    try:
+        module.draw_two_sided(axes[2], checks, colors)
+        assert len(axes[2].get_xticks()) == 4  # disk vs 2 disks, fibre vs disk at nu 0.9 and 0.6, disk vs fibre
+        for ax in axes[:2] + grand_axes:
+            ax.plot([0, 1], [0, 1])
+        module.draw_key(key_axes, colors, [1, 2, 3])
+        assert plotting.check_figure(fig) == []
+    finally:
+        matplotlib.pyplot.close(fig)
