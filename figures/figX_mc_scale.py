@@ -11,9 +11,9 @@ predicted, a fibre's width within one row); half filled: it is the structure of 
 within the energy gate of the prediction (structure_within_gate); hollow: neither. Each panel's
 title counts the runs whose structure matches and those within the gate. Green: within the energy gate
 max(EQUILIBRATED_GAP e_bulk, GATE_BONDS bonds) (the grey band and, where two bonds are worth
-more, the dashed line); orange: above it. Bottom row: the final state of the first seed at every
-distinct point of the scans (a point two scans share is drawn once), each centred on its largest
-cluster, all on one scale, titled with its verdict.
+more, the dashed line); orange: above it. Below: the final state of the first seed at every
+distinct point of the scans (a point two scans share is drawn once; at most six a row), each
+centred on its largest cluster, all on one scale, titled with its verdict.
 """
 import numpy as np
 
@@ -28,6 +28,7 @@ SCANS = {"fibre": ("Gamma", plotting.LABELS["Gamma"], "fibre scan"),
          "nu": ("nu", plotting.LABELS["nu"], "$\\nu$ scan")}
 SEED_MARKERS = "osD^v<>p"
 WITHIN, ABOVE = "#1b9e77", "#d95f02"  # runs within the criterion and above it (no phase colour)
+SNAPSHOTS_PER_ROW = 6
 
 
 def rows_of(scale, nu, Gamma):
@@ -98,10 +99,14 @@ def main(scale_path, run_paths, points, outputs, provenance=None):
     # Page layout in cm, from the bottom: the snapshots (square, as wide as a column of them
     # allows, so that no blank band surrounds their drawings) and their three-line titles, room for
     # the scans' axis labels, the scans' axes and their titles.
+    # At most SNAPSHOTS_PER_ROW in a row: the paper profile's seven points in one row left 2.5 cm
+    # a snapshot, narrower than their titles.
     page_w = plotting.PAGE_WIDTH_CM
-    slot = (page_w - 0.3) / max(len(shown), 1)
+    rows = max(1, -(-len(shown) // SNAPSHOTS_PER_ROW))
+    per_row = max(1, -(-len(shown) // rows))
+    slot = (page_w - 0.3) / per_row
     side = min(slot - 0.15, 4.0)
-    scans_bottom = 0.1 + side + 1.0 + 1.05
+    scans_bottom = 0.1 + rows * (side + 1.0) + 1.05
     scans_height = 3.9
     page_h = scans_bottom + scans_height + 0.7
     fig = plotting.figure(page_w, page_h)
@@ -128,13 +133,13 @@ def main(scale_path, run_paths, points, outputs, provenance=None):
                 ax.plot(x, gap, m, ms=5, fillstyle=fill, mfc=color, mfcalt="w", mec=color, mew=1.1, zorder=3)
                 highest = max(highest, gap, gate)
             ground = [ground_label(scale, k) for k in rows_of(scale, nu, G)][:1]
-            if ground:
-                ax.annotate(ground[0].replace(" ", "\n", 1), (x, 0),
+            if ground:  # a word a line: neighbouring points of the nu scan lie 0.2 apart
+                ax.annotate(ground[0].replace(" ", "\n"), (x, 0),
                             xytext=(0, -4), textcoords="offset points", ha="center", va="top", fontsize=6,
                             color="0.35")
         margin = 0.2 * (max(xs) - min(xs) + 0.1)  # the outer structure labels inside the axes
         ax.set_xlim(min(xs) - margin, max(xs) + margin)
-        ax.set_ylim(-0.3 * highest - 3, 1.12 * highest)
+        ax.set_ylim(-0.4 * highest - 3, 1.12 * highest)  # room for a three-line structure label
         ax.set_xlabel(label)
         ax.set_ylabel(r"$E - E_\mathrm{ground}$ ($e_{\rm bulk}$)" if i == 0 else "")
         in_scan = [k for _, nu, G in (p for p in points if p[0] == scan) for k in rows_of(scale, nu, G)]
@@ -151,7 +156,11 @@ def main(scale_path, run_paths, points, outputs, provenance=None):
     extents = [largest_cluster_extent(run["sites"], box) for *_, run in shown]
     half = max(0.5 * max(x1 - x0, y1 - y0) for (x0, y0), (x1, y1) in extents) + 2.0
     for j, ((scans, nu, G, run), ((x0, y0), (x1, y1))) in enumerate(zip(shown, extents)):
-        ax = fig.add_axes([(0.15 + j * slot + 0.5 * (slot - side)) / page_w, 0.1 / page_h, side / page_w, side / page_h])
+        row, column = divmod(j, per_row)
+        in_row = min(per_row, len(shown) - row * per_row)  # a shorter last row is centred
+        left = 0.15 + (column + 0.5 * (per_row - in_row)) * slot + 0.5 * (slot - side)
+        bottom = 0.1 + (rows - 1 - row) * (side + 1.0)
+        ax = fig.add_axes([left / page_w, bottom / page_h, side / page_w, side / page_h])
         plotting.draw_snapshot(run["sites"], box, ax=ax)
         ax.set_xlim(0.5 * (x0 + x1) - half, 0.5 * (x0 + x1) + half)
         ax.set_ylim(0.5 * (y0 + y1) - half, 0.5 * (y0 + y1) + half)
