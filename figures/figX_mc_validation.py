@@ -54,10 +54,10 @@ def draw_two_sided(ax, checks, colors):
     labels = []
     for x, ((predicted, competitor, nu), group) in enumerate(columns):
         spread = np.linspace(-0.3, 0.3, len(group)) if len(group) > 1 else np.zeros(1)
+        width = 0.24 / len(group)  # each check's seeds within its share of the column
         for dx_check, check in zip(spread, group):
             color = colors.get(check["Gamma"], "0.3")
             margin = np.array(check["competitor_energy_over_g"]) - np.array(check["predicted_energy_over_g"])
-            width = 0.24 / len(group)
             offsets = np.linspace(-width, width, len(margin)) if len(margin) > 1 else np.zeros(1)
             for k, (dx, value, kept) in enumerate(zip(offsets, margin, check["persists"])):
                 ax.plot(x + dx_check + dx, value, SEED_MARKERS[k % len(SEED_MARKERS)] if kept else "x", ms=4,

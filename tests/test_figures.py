@@ -156,13 +156,22 @@ def test_figS4_drawn_from_scratch(tmp_path):
     _assert_print_size(size_cm)
 
 
-def _gallery():
+def _load(path: Path):
+    """A script of the repository (a figure, a docs extension) imported as a module, by its path."""
     import importlib.util
 
-    spec = importlib.util.spec_from_file_location("figure_gallery", ROOT / "docs" / "_ext" / "figure_gallery.py")
-    gallery = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(gallery)
-    return gallery
+    spec = importlib.util.spec_from_file_location(path.stem, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _figure_script(name: str):
+    return _load(ROOT / "figures" / f"{name}.py")
+
+
+def _gallery():
+    return _load(ROOT / "docs" / "_ext" / "figure_gallery.py")
 
 
 def test_gallery_fills_captions_from_the_profile_that_made_the_figure():
@@ -298,11 +307,7 @@ def test_mc_diagram_summary_explains_exactly_the_fused_runs_within_the_criterion
     """figX_mc_diagram's generated summary speaks of a run called a fibre where the best single
     aggregate is compact only when it is within the criterion, and says "reads that shape" only when
     the run lies below that aggregate (otherwise the marker could be a wrong prediction)."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location("figX_mc_diagram", ROOT / "figures" / "figX_mc_diagram.py")
-    figure = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(figure)
+    figure = _figure_script("figX_mc_diagram")
     from pyfrustrate.ground_states import EQUILIBRATED_GAP
 
     within, above = 0.5 * EQUILIBRATED_GAP, 2.0 * EQUILIBRATED_GAP
@@ -370,15 +375,7 @@ def test_fused_predictions_are_one_cluster_in_the_mc_figures():
     one cluster: figX_mc_diagram counts a run in one cluster as in its structure, not one in two,
     and names the prediction in words; figX_mc_scale writes it under its point as fused disks when
     the classifier reads it so, as fused aggregates otherwise."""
-    import importlib.util
-
-    def load(name):
-        spec = importlib.util.spec_from_file_location(name, ROOT / "figures" / f"{name}.py")
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-        return module
-
-    diagram, scale = load("figX_mc_diagram"), load("figX_mc_scale")
+    diagram, scale = _figure_script("figX_mc_diagram"), _figure_script("figX_mc_scale")
     mc = {"structure": np.array(["single", "aggregates2", "aggregates2", "single"]),
           "ground_family": np.array(["fused2", "fused2", "aggregates2", "single"])}
     assert diagram.in_ground_structure(mc).tolist() == [True, False, True, True]
@@ -405,13 +402,9 @@ def test_mc_validation_fits_the_paper_profiles_two_sided_checks():
     (config/paper.yaml), three seeds each, one a failure, drawn into the figure's own layout
     beside a key of three Gamma pass the figure check: no tick label overlaps another or the key.
     The energies are placeholders; only the page is checked."""
-    import importlib.util
-
     import yaml
 
-    spec = importlib.util.spec_from_file_location("figX_mc_validation", ROOT / "figures" / "figX_mc_validation.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = _figure_script("figX_mc_validation")
     paper = yaml.safe_load((ROOT / "config" / "paper.yaml").read_text())["montecarlo"]["validation"]
     words = {("disk", "two_disks"): ("one disk", "two disks"),
              ("disk", "other_kind"): ("one disk", "a fibre wrapping the box"),
